@@ -1,0 +1,39 @@
+# halfpoint: FPGA motion-control core and toolchain.
+#   make setup   create .venv/ with the pinned dependencies (run by the others)
+#   make test    lint + model tests + cocotb/Verilator tests (what CI runs)
+#   make demo    shipped arcs through the model and the RTL, plot in build/demo/
+#   make lint    verilator --lint-only -Wall on rtl/
+#   make clean   remove build/ (keeps .venv/)
+
+PYTHON  ?= python3
+VENV    := .venv
+VPY     := $(VENV)/bin/python
+STAMP   := $(VENV)/.setup-done
+JOBS    ?= 2
+
+.PHONY: setup test lint demo clean distclean
+
+setup: $(STAMP)
+
+$(STAMP): requirements.txt pyproject.toml
+	@$(PYTHON) -c 'import sys; sys.exit(0 if sys.version_info >= (3, 10) else "halfpoint needs Python 3.10 or newer")'
+	$(PYTHON) -m venv $(VENV)
+	$(VPY) -m pip install --quiet --upgrade pip
+	$(VPY) -m pip install --quiet -r requirements.txt
+	$(VPY) -m pip install --quiet --no-deps --editable .
+	@touch $@
+
+lint: setup
+	$(VPY) -m halfpoint.lint
+
+test: setup lint
+	$(VPY) -m pytest -n $(JOBS) tb
+
+demo: setup
+	$(VENV)/bin/halfpoint demo --out build/demo
+
+clean:
+	rm -rf build
+
+distclean: clean
+	rm -rf $(VENV)

@@ -1,0 +1,438 @@
+// SPDX-License-Identifier: Apache-2.0
+`default_nettype none
+// ============================================================================
+// halfpoint_arc: half-point minimum-deviation circular interpolator (seed 000)
+// ============================================================================
+// Interpolates one circular arc per command on the integer lattice (1 BLU per
+// axis step), one lattice move per clock while `en` is high, through every
+// quadrant crossing and from one command to the next without an idle clock.
+//
+// Command (valid/ready, taken when s_valid & s_ready):
+//   s_cw            1 = clockwise (G2), 0 = counter-clockwise (G3)
+//   s_xs, s_ys      start point relative to the centre (signed, W bits)
+//   s_xe, s_ye      end point relative to the centre (signed, W bits)
+// The radius is defined by the start point (F = 0 there).  A start = end
+// command is a full circle.
+//
+// Each command goes through a validator (W+5 clocks, shift-and-add squaring,
+// no multiplier) and waits in a pending slot; it enters the run stage at the
+// clock edge of the previous arc's last move, or at once when the run stage
+// is idle.  The validator rejects (reject pulse, err_code, no move):
+//   1 radius zero, 2 circle does not fit W bits (R^2 > (M-1)(M-2), M=2^(W-1)),
+//   3 end point off the circle: |xe^2+ye^2-R^2| > 2*max(|xs|,|ys|).
+//
+// Run stage, per enabled clock, for the current point (u, v in the frame of
+// its quadrant, see README):  D1 >= 0 -> B; else D2 >= 0 -> A; else C.
+// D1, D2 and F are registers; the increments each move adds to them are
+// registers too, prepared one clock ahead, so the loop is
+//   sign(D1), sign(D2), u==1  ->  select  ->  one add.
+// End detection compares (u, v) with the end point's frame in its quadrant's
+// progress order (see README, "Termination contract").
+//
+// Outputs are registered.  In the clock after a move edge: move=1, step_x/y
+// and dir_x/y (1 = positive) for that move, x/y/f = the point reached and its
+// deviation F = x^2+y^2-R^2, done=1 if it was the arc's last move.  x/y/f
+// also show the start point (F=0) when an arc is loaded into an idle run
+// stage.  busy = an arc is running, pending or being validated.
+//
+// Parameters:
+//   W   coordinate width in bits, 8..32 (signed coordinates).  The datapath
+//       (D1, D2, F, increments) is W+2 bits wide.
+//
+// Reset: synchronous, active high, clears control state and outputs.
+// ============================================================================
+module halfpoint_arc #(
+    parameter integer W = 32
+) (
+    input  wire                clk,
+    input  wire                rst,
+    input  wire                en,
+    // command stream
+    input  wire                s_valid,
+    output wire                s_ready,
+    input  wire                s_cw,
+    input  wire [W-1:0]        s_xs,
+    input  wire [W-1:0]        s_ys,
+    input  wire [W-1:0]        s_xe,
+    input  wire [W-1:0]        s_ye,
+    // status and per-clock outputs
+    output wire                busy,
+    output reg                 move,
+    output reg                 step_x,
+    output reg                 step_y,
+    output reg                 dir_x,
+    output reg                 dir_y,
+    output reg  [W-1:0]        x,
+    output reg  [W-1:0]        y,
+    output reg  [W+1:0]        f,
+    output reg                 done,
+    output reg                 reject,
+    output reg  [1:0]          err_code
+);
+
+    // ------------------------------------------------------------------
+    // Parameter check: an illegal width stops elaboration.
+    // ------------------------------------------------------------------
+    generate
+        if (W < 8 || W > 32) begin : g_bad_width
+            halfpoint_arc_illegal_parameter_W_must_be_8_to_32 u_bad ();
+        end
+    endgenerate
+
+    localparam integer DW = W + 2;           // datapath width
+    localparam integer PW = 2 * W;           // square width
+    // small signed constants at datapath width
+    localparam [DW-1:0] C0  = {DW{1'b0}};
+    localparam [DW-1:0] K1  = {{(DW-4){1'b0}}, 4'd1};
+    localparam [DW-1:0] K2  = {{(DW-4){1'b0}}, 4'd2};
+    localparam [DW-1:0] K3  = {{(DW-4){1'b0}}, 4'd3};
+    localparam [DW-1:0] K4  = {{(DW-4){1'b0}}, 4'd4};
+    localparam [DW-1:0] K5  = {{(DW-4){1'b0}}, 4'd5};
+    localparam [DW-1:0] K6  = {{(DW-4){1'b0}}, 4'd6};
+    localparam [DW-1:0] K8  = {{(DW-4){1'b0}}, 4'd8};
+    localparam [DW-1:0] KM1 = {DW{1'b1}};
+    localparam [DW-1:0] KM3 = ~K2;
+    localparam [W-1:0] ONE_W = {{(W-1){1'b0}}, 1'b1};
+    localparam integer VLAST = W - 1;
+    localparam [2:0] V_IDLE = 3'd0, V_SQ = 3'd1, V_SUM = 3'd2, V_CHK = 3'd3,
+                     V_DEC = 3'd4, V_INIT = 3'd5, V_HOLD = 3'd6;
+    // Largest accepted R^2: (M-1)(M-2) = M^2 - 3M + 2, M = 2^(W-1).
+    localparam [PW+1:0] ONE = {{(PW+1){1'b0}}, 1'b1};
+    localparam [PW+1:0] THREE = {{(PW){1'b0}}, 2'b11};
+    localparam [PW+1:0] R2_MAX = (ONE << (2*W-2)) - (THREE << (W-1)) + (ONE << 1);
+
+    // Quadrant (0..3 = I..IV) of a non-origin point for a direction; a point
+    // on an axis belongs to the quadrant the motion enters.
+    function [1:0] quad;
+        input          cw;
+        input [W-1:0]  px;
+        input [W-1:0]  py;
+        reg xn, yn, xz, yz;
+        begin
+            xn = px[W-1]; yn = py[W-1];
+            xz = (px == {W{1'b0}}); yz = (py == {W{1'b0}});
+            if (!cw) begin
+                if (!xn && !xz && !yn)       quad = 2'd0;  // x>0, y>=0
+                else if ((xn || xz) && !yn && !yz) quad = 2'd1;  // x<=0, y>0
+                else if (xn && (yn || yz))   quad = 2'd2;  // x<0, y<=0
+                else                         quad = 2'd3;  // x>=0, y<0
+            end else begin
+                if (!xn && !yn && !yz)       quad = 2'd0;  // x>=0, y>0
+                else if (xn && !yn)          quad = 2'd1;  // x<0, y>=0
+                else if ((xn || xz) && yn)   quad = 2'd2;  // x<=0, y<0
+                else                         quad = 2'd3;  // x>0, y<=0
+            end
+        end
+    endfunction
+
+    // ------------------------------------------------------------------
+    // Validator: capture, square by shift-and-add, check, prepare.
+    // ------------------------------------------------------------------
+    reg  [2:0]    vstate_q;
+    reg  [5:0]    vcnt_q;
+    reg           c_cw_q;
+    reg  [W-1:0]  c_xs_q, c_ys_q, c_xe_q, c_ye_q;   // raw coordinates
+    reg  [W-1:0]  a_xs_q, a_ys_q, a_xe_q, a_ye_q;   // magnitudes
+    reg  [PW-1:0] sq_xs_q, sq_ys_q, sq_xe_q, sq_ye_q;
+    reg  [PW:0]   s2_q, e2_q;                        // R^2 and |E|^2
+    reg  signed [PW+1:0] fe_q;                       // |E|^2 - R^2
+    reg           zero_q, range_q;
+
+    // pending command, in run-stage form
+    reg  [1:0]    p_q_q, p_qe_q;
+    reg  [W-1:0]  p_u_q, p_v_q, p_ue_q, p_ve_q;
+    reg  [DW-1:0] p_d1_q, p_d2_q, p_p1_q, p_p2_q, p_p3_q, p_p4_q, p_p5_q;
+    reg  [DW-1:0] p_q1_q, p_q2_q, p_q4_q, p_g1_q, p_g2_q, p_g3_q;
+    reg  [W-1:0]  p_ue1_q, p_uem1_q, p_vem1_q;
+    reg           p_armed_q, p_oct1_q, p_ve0_q;
+
+    assign s_ready = (vstate_q == V_IDLE);
+    wire   accept  = s_valid && s_ready;
+
+    function [W-1:0] mag;
+        input [W-1:0] a;
+        begin
+            mag = a[W-1] ? (~a + {{(W-1){1'b0}}, 1'b1}) : a;
+        end
+    endfunction
+
+    // one shift-and-add squaring step: P = {hi, lo}; hi += lo[0] ? a : 0
+    function [PW-1:0] sq_step;
+        input [PW-1:0] p;
+        input [W-1:0]  a;
+        reg   [W:0]    s;
+        begin
+            s = {1'b0, p[PW-1:W]} + (p[0] ? {1'b0, a} : {(W+1){1'b0}});
+            sq_step = {s, p[W-1:1]};
+        end
+    endfunction
+
+    // DEC-stage combinational checks and frames
+    wire [W-1:0]   tol_m   = (a_xs_q > a_ys_q) ? a_xs_q : a_ys_q;
+    wire signed [PW+1:0] tol = $signed({{(PW-W+1){1'b0}}, tol_m, 1'b0});
+    wire           end_off = (fe_q > tol) || (fe_q < -tol);
+    wire [1:0]     dec_err = zero_q ? 2'd1 : range_q ? 2'd2 : end_off ? 2'd3 : 2'd0;
+    wire [1:0]     qs_w    = quad(c_cw_q, c_xs_q, c_ys_q);
+    wire [1:0]     qe_w    = quad(c_cw_q, c_xe_q, c_ye_q);
+    wire           uxs_w   = (qs_w[0] == c_cw_q);
+    wire           uxe_w   = (qe_w[0] == c_cw_q);
+
+    // INIT-stage: armed flag from the progress order
+    wire           oct1_w  = (p_ve_q <= p_ue_q);
+    wire           before_w = oct1_w ? ((p_v_q < p_ve_q) || (p_v_q == p_ve_q && p_u_q > p_ue_q))
+                                     : ((p_u_q > p_ue_q) || (p_u_q == p_ue_q && p_v_q < p_ve_q));
+    wire [DW-1:0]  iu = {2'b00, p_u_q};
+    wire [DW-1:0]  iv = {2'b00, p_v_q};
+
+    // run-stage handshake with the pending slot (defined below)
+    wire           load;
+
+    always @(posedge clk) begin
+        if (rst) begin
+            vstate_q <= V_IDLE;
+            vcnt_q   <= 6'd0;
+        end else begin
+            case (vstate_q)
+                V_IDLE: if (accept) begin
+                    vstate_q <= V_SQ;
+                    vcnt_q   <= 6'd0;
+                end
+                V_SQ: begin
+                    vcnt_q <= vcnt_q + 6'd1;
+                    if (vcnt_q == VLAST[5:0]) vstate_q <= V_SUM;
+                end
+                V_SUM:  vstate_q <= V_CHK;
+                V_CHK:  vstate_q <= V_DEC;
+                V_DEC:  vstate_q <= (dec_err != 2'd0) ? V_IDLE : V_INIT;
+                V_INIT: vstate_q <= V_HOLD;
+                V_HOLD: if (load) vstate_q <= V_IDLE;
+                default: vstate_q <= V_IDLE;
+            endcase
+        end
+    end
+
+    // validator datapath (no reset needed: qualified by vstate_q)
+    always @(posedge clk) begin
+        if (accept) begin
+            c_cw_q <= s_cw;
+            c_xs_q <= s_xs; c_ys_q <= s_ys; c_xe_q <= s_xe; c_ye_q <= s_ye;
+            a_xs_q <= mag(s_xs); a_ys_q <= mag(s_ys);
+            a_xe_q <= mag(s_xe); a_ye_q <= mag(s_ye);
+            sq_xs_q <= {{W{1'b0}}, mag(s_xs)};
+            sq_ys_q <= {{W{1'b0}}, mag(s_ys)};
+            sq_xe_q <= {{W{1'b0}}, mag(s_xe)};
+            sq_ye_q <= {{W{1'b0}}, mag(s_ye)};
+        end
+        if (vstate_q == V_SQ) begin
+            sq_xs_q <= sq_step(sq_xs_q, a_xs_q);
+            sq_ys_q <= sq_step(sq_ys_q, a_ys_q);
+            sq_xe_q <= sq_step(sq_xe_q, a_xe_q);
+            sq_ye_q <= sq_step(sq_ye_q, a_ye_q);
+        end
+        if (vstate_q == V_SUM) begin
+            s2_q <= {1'b0, sq_xs_q} + {1'b0, sq_ys_q};
+            e2_q <= {1'b0, sq_xe_q} + {1'b0, sq_ye_q};
+        end
+        if (vstate_q == V_CHK) begin
+            fe_q    <= $signed({1'b0, e2_q}) - $signed({1'b0, s2_q});
+            zero_q  <= (s2_q == {(PW+1){1'b0}});
+            range_q <= ({1'b0, s2_q} > R2_MAX);
+        end
+        if (vstate_q == V_DEC) begin
+            p_q_q  <= qs_w;
+            p_qe_q <= qe_w;
+            p_u_q  <= uxs_w ? a_xs_q : a_ys_q;
+            p_v_q  <= uxs_w ? a_ys_q : a_xs_q;
+            p_ue_q <= uxe_w ? a_xe_q : a_ye_q;
+            p_ve_q <= uxe_w ? a_ye_q : a_xe_q;
+        end
+        if (vstate_q == V_INIT) begin
+            // F = 0 at the start point
+            p_d1_q <= (iv - (iu << 1)) + K1;         // F - 2u + v + 1
+            p_d2_q <= ((iv << 1) - iu) + K1;         // F - u + 2v + 1
+            p_p1_q <= K3 - (iu << 1);                // dD1 after B
+            p_p2_q <= (iv << 1) + K2;                // dD1 after C
+            p_p3_q <= ((iv - iu) << 1) + K5;         // dD1, dD2 after A
+            p_p4_q <= K1 - (iv + (iv << 1));         // dD1 after B crossing
+            p_p5_q <= C0 - iv;                       // dD1 after A crossing
+            p_q1_q <= K2 - (iu << 1);                // dD2 after B
+            p_q2_q <= (iv << 1) + K3;                // dD2 after C
+            p_q4_q <= C0 - (iv + (iv << 1));         // dD2 after B crossing
+            p_g1_q <= K1 - (iu << 1);                // dF after B
+            p_g2_q <= (iv << 1) + K1;                // dF after C
+            p_g3_q <= ((iv - iu) << 1) + K2;         // dF after A
+            p_oct1_q  <= oct1_w;
+            p_armed_q <= !((p_q_q == p_qe_q) && !before_w);
+            p_ue1_q   <= p_ue_q + ONE_W;
+            p_uem1_q  <= p_ue_q - ONE_W;
+            p_vem1_q  <= p_ve_q - ONE_W;
+            p_ve0_q   <= (p_ve_q == {W{1'b0}});
+        end
+    end
+
+    // ------------------------------------------------------------------
+    // Run stage
+    // ------------------------------------------------------------------
+    reg           run_q, cw_q, armed_q, oct1_q, ve0_q;
+    reg  [1:0]    q_q, qe_q;
+    reg  [W-1:0]  u_q, v_q, ue_q, ve_q, ue1_q, uem1_q, vem1_q;
+    reg  [W-1:0]  px_q, py_q;                        // current point
+    reg  [DW-1:0] d1_q, d2_q, f_q;
+    reg  [DW-1:0] p1_q, p2_q, p3_q, p4_q, p5_q, q1_q, q2_q, q4_q, g1_q, g2_q, g3_q;
+
+    // decision: sign bits -> move
+    wire mv_b  = !d1_q[DW-1];
+    wire mv_a  = d1_q[DW-1] && !d2_q[DW-1];
+    wire mv_c  = d1_q[DW-1] && d2_q[DW-1];
+    wire dec_u = mv_b || mv_a;                       // u shrinks
+    wire inc_v = mv_a || mv_c;                       // v grows
+    wire u_one = (u_q == {{(W-1){1'b0}}, 1'b1});
+    wire xing = u_one && dec_u;                     // u reaches 0: next quadrant
+
+    wire ce    = run_q && en;
+
+    // increments of the crossing cases, from -(2v+2) = ~P2 + 1
+    wire [DW-1:0] np2 = ~p2_q;
+
+    // the loop: select one prepared increment, one add per register
+    wire [DW-1:0] d1_inc = xing ? (mv_b ? p4_q : p5_q)
+                                 : (mv_b ? p1_q : mv_a ? p3_q : p2_q);
+    wire [DW-1:0] d2_inc = xing ? (mv_b ? q4_q : p5_q)
+                                 : (mv_b ? q1_q : mv_a ? p3_q : q2_q);
+    wire [DW-1:0] f_inc  = mv_b ? g1_q : mv_a ? g3_q : g2_q;
+
+    // next increments: register + constant, or ~P2 + constant on a crossing
+    // (u' = v or v + 1, v' = 0); see README for the derivation
+    // registers whose term is -2u gain 2 on every move that lowers u
+    wire [DW-1:0] du2 = dec_u ? K2 : C0;
+
+    wire [DW-1:0] p1_n = xing ? (np2 + (mv_b ? K6 : K4)) : (p1_q + du2);
+    wire [DW-1:0] p2_n = xing ? K2 : (p2_q + (inc_v ? K2 : C0));
+    wire [DW-1:0] p3_n = xing ? (np2 + (mv_b ? K8 : K6))
+                               : (p3_q + (mv_a ? K4 : K2));
+    wire [DW-1:0] p4_n = xing ? K1 : (p4_q + (inc_v ? KM3 : C0));
+    wire [DW-1:0] p5_n = xing ? C0    : (p5_q + (inc_v ? KM1 : C0));
+    wire [DW-1:0] q1_n = xing ? (np2 + (mv_b ? K5 : K3)) : (q1_q + du2);
+    wire [DW-1:0] q2_n = xing ? K3 : (q2_q + (inc_v ? K2 : C0));
+    wire [DW-1:0] q4_n = xing ? C0    : (q4_q + (inc_v ? KM3 : C0));
+    wire [DW-1:0] g1_n = xing ? (np2 + (mv_b ? K4 : K2)) : (g1_q + du2);
+    wire [DW-1:0] g2_n = xing ? K1 : (g2_q + (inc_v ? K2 : C0));
+    wire [DW-1:0] g3_n = xing ? (np2 + (mv_b ? K5 : K3))
+                               : (g3_q + (mv_a ? K4 : K2));
+
+    wire [W-1:0]  u_n  = xing ? (mv_a ? v_q + ONE_W : v_q) : (dec_u ? u_q - ONE_W : u_q);
+    wire [W-1:0]  v_n  = xing ? {W{1'b0}} : (inc_v ? v_q + ONE_W : v_q);
+    wire [1:0]    q_n  = xing ? (cw_q ? q_q - 2'd1 : q_q + 2'd1) : q_q;
+
+    // physical steps: u steps toward the axis, v away from it
+    wire ux    = (q_q[0] == cw_q);
+    wire xpos  = (q_q == 2'd0) || (q_q == 2'd3);     // x >= 0 in this quadrant
+    wire ypos  = !q_q[1];                            // y >= 0 in this quadrant
+    wire stx   = ux ? dec_u : inc_v;
+    wire sty   = ux ? inc_v : dec_u;
+    wire dirx  = ux ? !xpos : xpos;                  // 1 = positive
+    wire diry  = ux ? ypos : !ypos;
+    wire [W-1:0] px_n = stx ? (dirx ? px_q + ONE_W : px_q - ONE_W) : px_q;
+    wire [W-1:0] py_n = sty ? (diry ? py_q + ONE_W : py_q - ONE_W) : py_q;
+
+    // end detection for the point after this move (progress order of E)
+    wire v_gt_ve  = (v_q > ve_q);
+    wire v_eq_ve  = (v_q == ve_q);
+    wire v1_eq_ve = !ve0_q && (v_q == vem1_q);
+    wire v_ge_ve  = v_gt_ve || v_eq_ve;
+    wire v1_ge_ve = v_ge_ve || v1_eq_ve;             // v + 1 >= ve
+    wire u_lt_ue  = (u_q < ue_q);
+    wire u_eq_ue  = (u_q == ue_q);
+    wire u_eq_ue1 = (u_q == ue1_q);
+    wire u_le_ue  = u_lt_ue || u_eq_ue;
+    wire u_le_ue1 = u_le_ue || u_eq_ue1;
+    wire v_lt_ue  = (v_q < ue_q);
+    wire v_eq_ue  = (v_q == ue_q);
+    wire v1_eq_ue = (v_q == uem1_q);                 // v + 1 == ue
+
+    reg  past_same;   // next point (same quadrant) is at or past E
+    always @(*) begin
+        if (oct1_q) begin   // order (v, -u)
+            if (mv_b)      past_same = v_gt_ve || (v_eq_ve && u_le_ue1);
+            else if (mv_c) past_same = v_ge_ve || (v1_eq_ve && u_le_ue);
+            else           past_same = v_ge_ve || (v1_eq_ve && u_le_ue1);
+        end else begin      // order (-u, v)
+            if (mv_b)      past_same = u_le_ue || (u_eq_ue1 && v_ge_ve);
+            else if (mv_c) past_same = u_lt_ue || (u_eq_ue && v1_ge_ve);
+            else           past_same = u_le_ue || (u_eq_ue1 && v1_ge_ve);
+        end
+    end
+    // entering E's quadrant at (u', 0) with u' = v (B) or v + 1 (A)
+    wire past_entry = oct1_q ? (ve0_q && (mv_b ? (v_lt_ue || v_eq_ue) : v_lt_ue))
+                             : (mv_b ? v_lt_ue : (v_lt_ue && !v1_eq_ue));
+    wire stop = armed_q && (((q_q == qe_q) && (xing || past_same)) ||
+                            (xing && (q_n == qe_q) && past_entry));
+    wire last = ce && stop;
+
+    assign load = (vstate_q == V_HOLD) && (!run_q || last);
+    assign busy = run_q || (vstate_q != V_IDLE);
+
+    always @(posedge clk) begin
+        if (rst) begin
+            run_q <= 1'b0;
+        end else if (load) begin
+            run_q <= 1'b1;
+        end else if (last) begin
+            run_q <= 1'b0;
+        end
+    end
+
+    always @(posedge clk) begin
+        if (load) begin
+            cw_q <= c_cw_q;  q_q <= p_q_q;  qe_q <= p_qe_q;
+            u_q  <= p_u_q;   v_q <= p_v_q;  ue_q <= p_ue_q;  ve_q <= p_ve_q;
+            ue1_q <= p_ue1_q; uem1_q <= p_uem1_q; vem1_q <= p_vem1_q; ve0_q <= p_ve0_q;
+            oct1_q <= p_oct1_q; armed_q <= p_armed_q;
+            px_q <= c_xs_q;  py_q <= c_ys_q;
+            d1_q <= p_d1_q;  d2_q <= p_d2_q; f_q <= {DW{1'b0}};
+            p1_q <= p_p1_q;  p2_q <= p_p2_q; p3_q <= p_p3_q;
+            p4_q <= p_p4_q;  p5_q <= p_p5_q;
+            q1_q <= p_q1_q;  q2_q <= p_q2_q; q4_q <= p_q4_q;
+            g1_q <= p_g1_q;  g2_q <= p_g2_q; g3_q <= p_g3_q;
+        end else if (ce) begin
+            q_q <= q_n;  u_q <= u_n;  v_q <= v_n;
+            armed_q <= armed_q || xing;
+            px_q <= px_n; py_q <= py_n;
+            d1_q <= d1_q + d1_inc;
+            d2_q <= d2_q + d2_inc;
+            f_q  <= f_q + f_inc;
+            p1_q <= p1_n; p2_q <= p2_n; p3_q <= p3_n; p4_q <= p4_n; p5_q <= p5_n;
+            q1_q <= q1_n; q2_q <= q2_n; q4_q <= q4_n;
+            g1_q <= g1_n; g2_q <= g2_n; g3_q <= g3_n;
+        end
+    end
+
+    // ------------------------------------------------------------------
+    // Registered outputs
+    // ------------------------------------------------------------------
+    always @(posedge clk) begin
+        if (rst) begin
+            move <= 1'b0; step_x <= 1'b0; step_y <= 1'b0;
+            dir_x <= 1'b0; dir_y <= 1'b0;
+            x <= {W{1'b0}}; y <= {W{1'b0}}; f <= {DW{1'b0}};
+            done <= 1'b0; reject <= 1'b0; err_code <= 2'd0;
+        end else begin
+            move   <= ce;
+            step_x <= ce && stx;
+            step_y <= ce && sty;
+            if (ce && stx) dir_x <= dirx;
+            if (ce && sty) dir_y <= diry;
+            if (ce) begin
+                x <= px_n; y <= py_n; f <= f_q + f_inc;
+            end else if (load) begin
+                x <= c_xs_q; y <= c_ys_q; f <= {DW{1'b0}};
+            end
+            done   <= last;
+            reject <= (vstate_q == V_DEC) && (dec_err != 2'd0);
+            if ((vstate_q == V_DEC) && (dec_err != 2'd0)) err_code <= dec_err;
+        end
+    end
+
+endmodule
+
+`default_nettype wire

@@ -1,0 +1,153 @@
+# SPDX-License-Identifier: Apache-2.0
+"""Model-only tests of the arc interpolator (no simulator)."""
+
+from __future__ import annotations
+
+import math
+import random
+
+import numpy as np
+import pytest
+
+from halfpoint.arc import (
+    ERR_END_OFF, ERR_NONE, ERR_RADIUS_ZERO, ERR_RANGE, ArcRejected, ArcRun,
+    ArcInputs, ArcUnitModel, arc_points, frame, full_circle_stats, limits,
+    move_bound, validate, validate_latency,
+)
+
+RADII = np.arange(1, 2049)
+
+
+@pytest.mark.parametrize("cw", [0, 1])
+def test_full_circles_1_to_2048_error_and_move_count(cw):
+    moves, err = full_circle_stats(RADII, cw)
+    assert err.max() < 0.5, f"max radial error {err.max()} at R={RADII[err.argmax()]}"
+    ratio = moves / RADII
+    # 4*sqrt(2)*R moves per circle (SEEDS.md); small radii round coarsely
+    big = RADII >= 64
+    assert np.all(np.abs(ratio[big] / (4 * math.sqrt(2)) - 1) < 0.01)
+    assert np.all((ratio >= 4) & (ratio <= 6))
+
+
+@pytest.mark.parametrize("cw", [0, 1])
+def test_vectorised_sweep_matches_reference_model(cw):
+    radii = np.arange(1, 160)
+    moves, err = full_circle_stats(radii, cw)
+    for r, n, e in zip(radii, moves, err):
+        pts = arc_points(int(r), 0, int(r), 0, cw)
+        assert len(pts) - 1 == n and pts[-1] == (r, 0)
+        assert abs(max(abs(math.hypot(*p) - r) for p in pts) - e) < 1e-12
+
+
+def test_decision_table_against_brute_force_minimum_deviation():
+    """Each move is the one of B, A, C that minimises |F| (seed 000's claim:
+    the same feed directions as the classic minimum-deviation method)."""
+    for r in range(1, 120):
+        for cw in (0, 1):
+            run = ArcRun(r, 0, r, 0, cw)
+            while not run.done:
+                u, v, f = run.u, run.v, run.f
+                cand = {"B": f - 2 * u + 1, "C": f + 2 * v + 1, "A": f - 2 * u + 2 * v + 2}
+                best = min(abs(c) for c in cand.values())
+                kind = run.move().kind
+                assert abs(cand[kind]) == best, (r, cw, kind, cand)
+
+
+def test_worked_start_frames():
+    # SEEDS.md quadrant table, one point per row
+    assert frame(5, 0, 0) == (0, 5, 0)     # CCW I: u=|x|, axis point enters I
+    assert frame(0, 5, 0) == (1, 5, 0)     # CCW II: u=|y|
+    assert frame(-5, 0, 0) == (2, 5, 0)
+    assert frame(0, -5, 0) == (3, 5, 0)
+    assert frame(0, 5, 1) == (0, 5, 0)     # CW I: u=|y|
+    assert frame(-5, 0, 1) == (1, 5, 0)
+    assert frame(0, -5, 1) == (2, 5, 0)
+    assert frame(5, 0, 1) == (3, 5, 0)
+
+
+def test_end_point_contract_exhaustive_small_radii():
+    """Every accepted end point: the arc stops within the move bound; every
+    end within 0.5 BLU of the circle: stop within 1 BLU per axis; start = end:
+    exactly back at the start."""
+    rng = random.Random(5)
+    checked = 0
+    for _ in range(40):
+        xs, ys = 0, 0
+        while xs == 0 and ys == 0:
+            xs, ys = rng.randint(-30, 30), rng.randint(-30, 30)
+        cw = rng.randint(0, 1)
+        r = math.hypot(xs, ys)
+        full = arc_points(xs, ys, xs, ys, cw)
+        assert full[-1] == (xs, ys)
+        ri = int(r) + 2
+        for xe in range(-ri, ri + 1):
+            for ye in range(-ri, ri + 1):
+                if validate(xs, ys, xe, ye, 32):
+                    continue
+                pts = arc_points(xs, ys, xe, ye, cw)
+                checked += 1
+                assert len(pts) - 1 <= min(move_bound(xs, ys), len(full) - 1)
+                if abs(math.hypot(xe, ye) - r) <= 0.5:
+                    fx, fy = pts[-1]
+                    assert max(abs(fx - xe), abs(fy - ye)) <= 1, ((xs, ys, xe, ye, cw), pts[-1])
+                if (xe, ye) in pts[1:]:
+                    # an end point on the lattice path is reached exactly
+                    assert pts[-1] == (xe, ye)
+    assert checked > 10000
+
+
+def test_validate_boundaries():
+    assert validate(0, 0, 1, 0, 16) == ERR_RADIUS_ZERO
+    m = 1 << 15
+    r2max = limits(16)[1]
+    assert r2max == (m - 1) * (m - 2)
+    assert validate(m - 2, 0, m - 2, 0, 16) == ERR_NONE
+    assert validate(m - 1, 0, m - 1, 0, 16) == ERR_RANGE
+    assert validate(-m, 0, -m, 0, 16) == ERR_RANGE
+    # tolerance |F_e| <= 2*max(|xs|,|ys|): start (6, 8), R^2 = 100, |F_e| <= 16
+    assert validate(6, 8, 10, 4, 16) == ERR_NONE         # F_e = 16
+    assert validate(6, 8, 9, 6, 16) == ERR_END_OFF       # F_e = 17
+    assert validate(6, 8, 8, 6, 16) == ERR_NONE          # F_e = 0
+    assert validate(6, 8, 2, 9, 16) == ERR_NONE          # F_e = -15
+    assert validate(6, 8, 9, 1, 16) == ERR_END_OFF       # F_e = -18
+    with pytest.raises(ArcRejected) as exc:
+        arc_points(10, 0, 2, 11, 0, 16)
+    assert exc.value.code == ERR_END_OFF
+
+
+def test_every_end_within_half_blu_is_accepted_and_beyond_one_rejected():
+    rng = random.Random(9)
+    for _ in range(3000):
+        xs, ys = rng.randint(-5000, 5000), rng.randint(-5000, 5000)
+        if xs == 0 and ys == 0:
+            continue
+        r = math.hypot(xs, ys)
+        th = rng.uniform(0, 2 * math.pi)
+        for dr in (-1.2, -0.49, 0.0, 0.49, 1.2):
+            xe, ye = round((r + dr) * math.cos(th)), round((r + dr) * math.sin(th))
+            d = math.hypot(xe, ye) - r
+            code = validate(xs, ys, xe, ye, 32)
+            if abs(d) <= 0.5:
+                assert code == ERR_NONE
+            elif abs(d) > 1.0:
+                assert code == ERR_END_OFF
+
+
+def test_cycle_model_timing():
+    """Latency from the accepting edge to the first move, and the pending slot."""
+    w = 16
+    m = ArcUnitModel(w)
+    m.clock(ArcInputs(rst=1))
+    o = m.outputs()
+    assert o.s_ready and not o.busy
+    m.clock(ArcInputs(s_valid=1, s_xs=10, s_ys=0, s_xe=0, s_ye=10))
+    first = None
+    for cyc in range(1, 100):
+        o = m.outputs()
+        if o.move:
+            first = cyc
+            break
+        m.clock(ArcInputs())
+    # W+5 validator clocks to HOLD, one load edge, one move edge
+    assert first == validate_latency(w) + 2
+
