@@ -172,14 +172,14 @@ module halfpoint_arc #(
     wire signed [PW+1:0] tol = $signed({{(PW-W+1){1'b0}}, tol_m, 1'b0});
     wire           end_off = (fe_q > tol) || (fe_q < -tol);
     wire [1:0]     dec_err = zero_q ? 2'd1 : range_q ? 2'd2 : end_off ? 2'd3 : 2'd0;
-    wire [1:0]     qs_w    = quad(c_cw_q, c_xs_q, c_ys_q);
-    wire [1:0]     qe_w    = quad(c_cw_q, c_xe_q, c_ye_q);
-    wire           uxs_w   = (qs_w[0] == c_cw_q);
-    wire           uxe_w   = (qe_w[0] == c_cw_q);
+    wire [1:0]     dec_qs    = quad(c_cw_q, c_xs_q, c_ys_q);
+    wire [1:0]     dec_qe    = quad(c_cw_q, c_xe_q, c_ye_q);
+    wire           dec_uxs   = (dec_qs[0] == c_cw_q);
+    wire           dec_uxe   = (dec_qe[0] == c_cw_q);
 
     // INIT-stage: armed flag from the progress order
-    wire           oct1_w  = (p_ve_q <= p_ue_q);
-    wire           before_w = oct1_w ? ((p_v_q < p_ve_q) || (p_v_q == p_ve_q && p_u_q > p_ue_q))
+    wire           init_oct1  = (p_ve_q <= p_ue_q);
+    wire           init_before = init_oct1 ? ((p_v_q < p_ve_q) || (p_v_q == p_ve_q && p_u_q > p_ue_q))
                                      : ((p_u_q > p_ue_q) || (p_u_q == p_ue_q && p_v_q < p_ve_q));
     wire [DW-1:0]  iu = {2'b00, p_u_q};
     wire [DW-1:0]  iv = {2'b00, p_v_q};
@@ -239,12 +239,12 @@ module halfpoint_arc #(
             range_q <= ({1'b0, s2_q} > R2_MAX);
         end
         if (vstate_q == V_DEC) begin
-            p_q_q  <= qs_w;
-            p_qe_q <= qe_w;
-            p_u_q  <= uxs_w ? a_xs_q : a_ys_q;
-            p_v_q  <= uxs_w ? a_ys_q : a_xs_q;
-            p_ue_q <= uxe_w ? a_xe_q : a_ye_q;
-            p_ve_q <= uxe_w ? a_ye_q : a_xe_q;
+            p_q_q  <= dec_qs;
+            p_qe_q <= dec_qe;
+            p_u_q  <= dec_uxs ? a_xs_q : a_ys_q;
+            p_v_q  <= dec_uxs ? a_ys_q : a_xs_q;
+            p_ue_q <= dec_uxe ? a_xe_q : a_ye_q;
+            p_ve_q <= dec_uxe ? a_ye_q : a_xe_q;
         end
         if (vstate_q == V_INIT) begin
             // F = 0 at the start point
@@ -261,8 +261,8 @@ module halfpoint_arc #(
             p_g1_q <= K1 - (iu << 1);                // dF after B
             p_g2_q <= (iv << 1) + K1;                // dF after C
             p_g3_q <= ((iv - iu) << 1) + K2;         // dF after A
-            p_oct1_q  <= oct1_w;
-            p_armed_q <= !((p_q_q == p_qe_q) && !before_w);
+            p_oct1_q  <= init_oct1;
+            p_armed_q <= !((p_q_q == p_qe_q) && !init_before);
             p_ue1_q   <= p_ue_q + ONE_W;
             p_uem1_q  <= p_ue_q - ONE_W;
             p_vem1_q  <= p_ve_q - ONE_W;
