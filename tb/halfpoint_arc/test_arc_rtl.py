@@ -1,17 +1,23 @@
 # SPDX-License-Identifier: Apache-2.0
 """pytest runner: builds halfpoint_arc with Verilator and runs arc_cocotb.py."""
 
-from pathlib import Path
 
 import pytest
 
 from halfpoint.sim import BUILD, rtl_sources, run_cocotb
 
-HERE = Path(__file__).resolve().parent
+
+# every cocotb test at the two widths the issue names; an odd width in
+# between runs the circle and quadrant tests
+CASES = [
+    (16, None),
+    (32, None),
+    (23, ["full_circles", "quadrant_pairs", "rejects_then_valid"]),
+]
 
 
-@pytest.mark.parametrize("width", [16, 32])
-def test_arc_rtl_matches_model(width):
+@pytest.mark.parametrize("width, testcases", CASES, ids=[f"W{w}" for w, _ in CASES])
+def test_arc_rtl_matches_model(width, testcases):
     run_cocotb(
         toplevel="halfpoint_arc",
         sources=rtl_sources("halfpoint_arc"),
@@ -20,4 +26,5 @@ def test_arc_rtl_matches_model(width):
         parameters={"W": width},
         build_name=f"arc_w{width}",
         extra_env={"HP_W": width, "HP_SEED": 1},
+        testcase=testcases,
     )
