@@ -25,7 +25,7 @@ async def run_commands(dut):
     await bench.start()
     results, stats = await bench.run(cmds)
     out = [
-        {"cmd": list(r.cmd), "points": r.points, "rejected": r.rejected, "finished": r.finished}
+        {"cmd": list(r.cmd), "points": ArcBench.points(r), "rejected": r.rejected, "finished": r.finished}
         for r in results
     ]
     with open(os.environ["HP_OUT"], "w", encoding="utf-8") as fh:
