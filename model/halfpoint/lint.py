@@ -16,6 +16,7 @@ from .sim import RTL, setup_verilator_env
 TARGETS = {
     "halfpoint_arc": [{"W": 8}, {"W": 16}, {"W": 24}, {"W": 32}],
     "halfpoint_line": [{"NA": 1, "W": 8}, {"NA": 3, "W": 32}, {"NA": 6, "W": 16}],
+    "halfpoint_stepgen": [{"TW": 2}, {"TW": 16}],
 }
 
 

@@ -1,0 +1,139 @@
+// SPDX-License-Identifier: Apache-2.0
+`default_nettype none
+// ============================================================================
+// halfpoint_stepgen: one axis's STEP/DIR output with programmable timing
+// ============================================================================
+// Turns step requests into STEP/DIR pin activity that never violates the
+// programmed timing (clock ticks, LinuxCNC / Mesa hostmot2 meanings):
+//   steplen    STEP active for exactly max(steplen, 1) clocks per step
+//   stepspace  STEP inactive for at least max(stepspace, 1) clocks between steps
+//   dirsetup   DIR changes at least dirsetup clocks before STEP goes active
+//   dirhold    DIR changes at least dirhold clocks after STEP went inactive
+// and step_inv / dir_inv invert the pins (active-low drivers).
+//
+// Handshake: ready_pos / ready_neg say whether a request in that direction
+// is taken at this clock edge (they depend only on registers and the
+// settings).  The requester asserts req (with req_dir, 1 = positive) only
+// when the matching ready is high and holds its interpolator back otherwise,
+// so no step is dropped or merged.  A request in the same direction makes
+// STEP active from the next clock; one in the other direction changes DIR at
+// the next clock and makes STEP active dirsetup clocks later.
+//
+// Both pins are registers.  Settings may change at any time; they act from
+// the next decision on.
+//
+// Parameters:
+//   TW  width of the timing settings in bits, 2..16
+//
+// Reset: synchronous, active high: STEP inactive, DIR = negative (0), ready.
+// ============================================================================
+module halfpoint_stepgen #(
+    parameter integer TW = 16
+) (
+    input  wire          clk,
+    input  wire          rst,
+    input  wire [TW-1:0] cfg_steplen,
+    input  wire [TW-1:0] cfg_stepspace,
+    input  wire [TW-1:0] cfg_dirsetup,
+    input  wire [TW-1:0] cfg_dirhold,
+    input  wire          cfg_step_inv,
+    input  wire          cfg_dir_inv,
+    input  wire          req,
+    input  wire          req_dir,
+    output wire          ready_pos,
+    output wire          ready_neg,
+    output wire          busy,
+    output reg           step_pin,
+    output reg           dir_pin
+);
+
+    generate
+        if (TW < 2 || TW > 16) begin : g_bad_tw
+            halfpoint_stepgen_illegal_parameter_TW_must_be_2_to_16 u_bad ();
+        end
+    endgenerate
+
+    localparam [1:0] S_LOW = 2'd0, S_SETUP = 2'd1, S_HIGH = 2'd2;
+    localparam [TW-1:0] T1 = {{(TW-1){1'b0}}, 1'b1};
+    localparam [TW-1:0] TMAX = {TW{1'b1}};
+
+    reg  [1:0]    state_q;
+    reg  [TW-1:0] cnt_q;      // clocks left in SETUP / HIGH
+    reg  [TW-1:0] low_t_q;    // clocks STEP has been inactive (saturating)
+    reg           dir_q;      // logical direction, 1 = positive
+
+    wire [TW-1:0] steplen  = (cfg_steplen == {TW{1'b0}}) ? T1 : cfg_steplen;
+    wire          in_low   = (state_q == S_LOW);
+    wire          sp_ok    = (low_t_q >= cfg_stepspace);
+    wire          ready_same = in_low && sp_ok;
+    wire          ready_flip = in_low && sp_ok && (low_t_q >= cfg_dirhold);
+    assign ready_pos = dir_q  ? ready_same : ready_flip;
+    assign ready_neg = !dir_q ? ready_same : ready_flip;
+    assign busy      = !in_low;
+
+    wire take = req && in_low && (req_dir ? ready_pos : ready_neg);
+    wire flip = take && (req_dir != dir_q);
+
+    // next state
+    reg  [1:0]    state_n;
+    reg  [TW-1:0] cnt_n, low_t_n;
+    always @(*) begin
+        state_n = state_q;
+        cnt_n   = cnt_q;
+        low_t_n = low_t_q;
+        case (state_q)
+            S_LOW: begin
+                if (take) begin
+                    if (flip && cfg_dirsetup != {TW{1'b0}}) begin
+                        state_n = S_SETUP;
+                        cnt_n   = cfg_dirsetup;
+                    end else begin
+                        state_n = S_HIGH;
+                        cnt_n   = steplen;
+                    end
+                end else if (low_t_q != TMAX) begin
+                    low_t_n = low_t_q + T1;
+                end
+            end
+            S_SETUP: begin
+                if (cnt_q <= T1) begin
+                    state_n = S_HIGH;
+                    cnt_n   = steplen;
+                end else begin
+                    cnt_n = cnt_q - T1;
+                end
+            end
+            default: begin   // S_HIGH
+                if (cnt_q <= T1) begin
+                    state_n = S_LOW;
+                    low_t_n = T1;
+                end else begin
+                    cnt_n = cnt_q - T1;
+                end
+            end
+        endcase
+    end
+    wire dir_n = take ? req_dir : dir_q;
+
+    always @(posedge clk) begin
+        if (rst) begin
+            state_q  <= S_LOW;
+            cnt_q    <= {TW{1'b0}};
+            low_t_q  <= TMAX;
+            dir_q    <= 1'b0;
+            step_pin <= cfg_step_inv;
+            dir_pin  <= cfg_dir_inv;
+        end else begin
+            state_q  <= state_n;
+            cnt_q    <= cnt_n;
+            low_t_q  <= low_t_n;
+            dir_q    <= dir_n;
+            // pins are registered copies of the next state, with polarity
+            step_pin <= (state_n == S_HIGH) ^ cfg_step_inv;
+            dir_pin  <= dir_n ^ cfg_dir_inv;
+        end
+    end
+
+endmodule
+
+`default_nettype wire
