@@ -15,9 +15,11 @@
 // command is a full circle.
 //
 // Each command goes through a validator (W+5 clocks, shift-and-add squaring,
-// no multiplier) and waits in a pending slot; it enters the run stage at the
-// clock edge of the previous arc's last move, or at once when the run stage
-// is idle.  The validator rejects (reject pulse, err_code, no move):
+// no multiplier) and waits in a pending slot; while start_en is high it
+// enters the run stage at the clock edge of the previous arc's last move, or
+// at once when the run stage is idle.  The sequencing outputs (running,
+// loading, ending, nx_*) are combinational views of the run stage for a
+// motion core that paces `en` and orders segments across units.  The validator rejects (reject pulse, err_code, no move):
 //   1 radius zero, 2 circle does not fit W bits (R^2 > (M-1)(M-2), M=2^(W-1)),
 //   3 end point off the circle: |xe^2+ye^2-R^2| > 2*max(|xs|,|ys|).
 //
@@ -67,7 +69,15 @@ module halfpoint_arc #(
     output reg  [W+1:0]        f,
     output reg                 done,
     output reg                 reject,
-    output reg  [1:0]          err_code
+    output reg  [1:0]          err_code,
+    // sequencing (for the motion core; tie start_en high when used alone)
+    input  wire                start_en,   // the pending arc may enter the run stage
+    output wire                running,    // an arc is in the run stage
+    output wire                loading,    // the pending arc enters the run stage at this edge
+    output wire                ending,     // the running arc makes its last move at this edge
+    output wire [1:0]          nx_step,    // next move (if en): steps X (bit 0) and Y (bit 1)
+    output wire [1:0]          nx_dir,     //   and their directions, 1 = positive
+    output wire                nx_diag     //   it is a diagonal move (A)
 );
 
     // ------------------------------------------------------------------
@@ -369,7 +379,14 @@ module halfpoint_arc #(
                             (xing && (q_n == qe_q) && past_entry));
     wire last = ce && stop;
 
-    assign load = (vstate_q == V_HOLD) && (!run_q || last);
+    assign load = (vstate_q == V_HOLD) && start_en && (!run_q || last);
+
+    assign running = run_q;
+    assign loading = load;
+    assign ending  = last;
+    assign nx_step = {sty, stx};
+    assign nx_dir  = {diry, dirx};
+    assign nx_diag = mv_a;
     assign busy = run_q || (vstate_q != V_IDLE);
 
     always @(posedge clk) begin

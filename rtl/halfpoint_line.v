@@ -17,8 +17,10 @@
 // Command (valid/ready, taken when s_valid & s_ready):
 //   s_delta   NA signed W-bit deltas, axis 0 in the least significant bits
 // Validator: NA + 2 clocks (magnitudes, running maximum, increments), then a
-// pending slot that enters the run stage at the edge of the running segment's
-// last move, or at once when the run stage is idle.  A segment with all
+// pending slot that, while start_en is high, enters the run stage at the edge
+// of the running segment's last move, or at once when the run stage is idle.
+// The sequencing outputs (running, loading, ending, nx_*) are combinational
+// views of the run stage for the motion core.  A segment with all
 // deltas zero is rejected (reject pulse, err_code = 1) and makes no move.
 //
 // Outputs (registered; in the clock after a move edge): move = 1, step[i] =
@@ -48,7 +50,14 @@ module halfpoint_line #(
     output reg  [NA-1:0]      dir,
     output reg                done,
     output reg                reject,
-    output reg  [1:0]         err_code
+    output reg  [1:0]         err_code,
+    // sequencing (for the motion core; tie start_en high when used alone)
+    input  wire               start_en,   // the pending segment may enter the run stage
+    output wire               running,    // a segment is in the run stage
+    output wire               loading,    // the pending segment enters the run stage at this edge
+    output wire               ending,     // the running segment makes its last move at this edge
+    output wire [NA-1:0]      nx_step,    // next move (if en): axes that step
+    output wire [NA-1:0]      nx_dir      //   and their directions, 1 = positive
 );
 
     generate
@@ -138,7 +147,13 @@ module halfpoint_line #(
 
     wire ce   = run_q && en;
     wire last = ce && (cnt_q == ONE_W);
-    assign load = (vstate_q == L_HOLD) && (!run_q || last);
+    assign load = (vstate_q == L_HOLD) && start_en && (!run_q || last);
+
+    assign running = run_q;
+    assign loading = load;
+    assign ending  = last;
+    assign nx_step = stp;
+    assign nx_dir  = ~neg_q;
     assign busy = run_q || (vstate_q != L_IDLE);
 
     generate

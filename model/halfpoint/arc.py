@@ -234,18 +234,23 @@ class ArcRun:
             return MOVE_A
         return MOVE_C
 
-    def move(self) -> Move:
-        """Make the next lattice move; ``last`` is set on the arc's final move."""
-        assert not self.done, "arc already finished"
+    def peek(self) -> tuple[str, int, int]:
+        """(kind, dx, dy) of the next move, without making it."""
         kind = self.decide()
         du = 1 if kind in (MOVE_B, MOVE_A) else 0
         dv = 1 if kind in (MOVE_A, MOVE_C) else 0
-        # Physical steps: u steps toward the axis, v away from it.
         sx, sy = sign_x(self.q), sign_y(self.q)
         if u_is_x(self.q, self.cw):
-            dx, dy = -sx * du, sy * dv
-        else:
-            dx, dy = sx * dv, -sy * du
+            return kind, -sx * du, sy * dv
+        return kind, sx * dv, -sy * du
+
+    def move(self) -> Move:
+        """Make the next lattice move; ``last`` is set on the arc's final move."""
+        assert not self.done, "arc already finished"
+        # Physical steps: u steps toward the axis, v away from it.
+        kind, dx, dy = self.peek()
+        du = 1 if kind in (MOVE_B, MOVE_A) else 0
+        dv = 1 if kind in (MOVE_A, MOVE_C) else 0
         self.f = self._fits(self.f - du * (2 * self.u - 1) + dv * (2 * self.v + 1))
         # Candidate increments the RTL keeps in registers must fit as well.
         for inc in (-2 * self.u + 3, 2 * self.v + 3, -2 * self.u + 2 * self.v + 5, -3 * self.v + 1):
@@ -405,6 +410,7 @@ class ArcInputs:
     s_ye: int = 0
     en: int = 1
     rst: int = 0
+    start_en: int = 1
 
 
 @dataclass
@@ -501,7 +507,7 @@ class ArcUnitModel:
         elif st == V_INIT:
             self.vstate = V_HOLD
         elif st == V_HOLD:
-            if self.run is None:
+            if self.run is None and i.start_en:
                 cw, xs, ys, xe, ye = self.vcmd
                 self.run = ArcRun(xs, ys, xe, ye, cw, self.width)
                 if not finishing:

@@ -71,19 +71,21 @@ class LineRun:
     def done(self) -> bool:
         return self.left == 0
 
+    def peek(self) -> tuple[int, ...]:
+        """The signed step of every axis in the next iteration, not made yet."""
+        return tuple(
+            self.dirs[i] if 2 * (self.acc[i] + m) > self.total else 0
+            for i, m in enumerate(self.mags)
+        )
+
     def move(self) -> tuple[int, ...]:
         """One iteration: the signed step of every axis (0 = no step)."""
         assert self.left > 0
-        steps = []
+        steps = self.peek()
         for i, m in enumerate(self.mags):
-            self.acc[i] += m
-            if 2 * self.acc[i] > self.total:
-                self.acc[i] -= self.total
-                steps.append(self.dirs[i])
-            else:
-                steps.append(0)
+            self.acc[i] += m - (self.total if steps[i] else 0)
         self.left -= 1
-        return tuple(steps)
+        return steps
 
     def run(self):
         while not self.done:
@@ -108,6 +110,7 @@ class LineInputs:
     s_delta: tuple = ()
     en: int = 1
     rst: int = 0
+    start_en: int = 1
 
 
 @dataclass
@@ -176,6 +179,6 @@ class LineUnitModel:
             else:
                 self.vstate = L_HOLD
         elif st == L_HOLD:
-            if self.run is None:
+            if self.run is None and i.start_en:
                 self.run = LineRun(list(self.vcmd), self.width)
                 self.vstate = L_IDLE
