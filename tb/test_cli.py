@@ -66,3 +66,76 @@ def test_rtl_engine_prints_exactly_what_the_model_prints(args):
     m = hp(*args, "--engine", "model")
     r = hp(*args, "--engine", "rtl")
     assert (m.returncode, m.stdout, m.stderr) == (r.returncode, r.stdout, r.stderr)
+
+
+# --- halfpoint segments ---------------------------------------------------
+
+EXAMPLE = "examples/square_with_arcs.jsonl"
+
+
+def test_segments_example_model_and_rtl_identical():
+    m = hp("segments", EXAMPLE)
+    r = hp("segments", EXAMPLE, "--engine", "rtl")
+    assert m.returncode == 0 and r.returncode == 0, m.stderr + r.stderr
+    assert m.stdout == r.stdout
+    rows = [tuple(map(int, ln.split(","))) for ln in m.stdout.splitlines()]
+    assert rows[0] == (0, 0, 0) and rows[-1] == (0, 0, 0)     # the program is closed
+    # every move changes each axis by at most one BLU
+    assert all(max(abs(a - b) for a, b in zip(p, q)) == 1 for p, q in zip(rows, rows[1:]))
+
+
+def test_segments_random_file_model_and_rtl_identical(tmp_path):
+    import json
+    import math
+    import random
+
+    from halfpoint.arc import lattice_point_near
+
+    rng = random.Random(4)
+    lines = []
+    for _ in range(40):
+        if rng.random() < 0.5:
+            lines.append({"op": "line", "delta": [rng.randint(-9, 9) for _ in range(3)],
+                          "rate": round(rng.uniform(0.2, 3), 3)})
+        else:
+            i, j = rng.randint(-12, 12), rng.randint(-12, 12)
+            if i == 0 and j == 0:
+                i = 5
+            xe, ye = lattice_point_near(i * i + j * j, rng.uniform(0, 2 * math.pi))
+            lines.append({"op": "arc", "dir": rng.choice(("cw", "ccw")),
+                          "center": [i, j], "end": [xe + i, ye + j]})
+    f = tmp_path / "prog.jsonl"
+    f.write_text("\n".join(json.dumps(x) for x in lines) + "\n")
+    m = hp("segments", str(f))
+    r = hp("segments", str(f), "--engine", "rtl")
+    assert m.returncode == 0 and m.stdout == r.stdout
+
+
+@pytest.mark.parametrize(
+    "text, needle",
+    [
+        ('{"op": "line", "delta": [1, 2, 3]}\n{"op": "line", "delta": [1, 2}', "line 2: not valid JSON"),
+        ('{"op": "move", "delta": [1]}', 'line 1: "op" must be'),
+        ('\n# comment\n{"op": "line"}', 'line 3: "delta" must be a list'),
+        ('{"op": "line", "delta": [1, 2, 3, 4]}', "line 1: \"delta\" must be a list of 1..3"),
+        ('{"op": "line", "delta": [1.5, 2, 3]}', "line 1: \"delta\" must hold integers"),
+        ('{"op": "line", "delta": [1], "speed": 3}', "line 1: unknown key 'speed'"),
+        ('{"op": "arc", "dir": "cw", "center": [10, 0], "end": [13, 0]}', "line 1: arc rejected: end point is off the circle"),
+        ('{"op": "arc", "dir": "up", "center": [10, 0], "end": [20, 0]}', 'line 1: "dir" must be'),
+        ('{"op": "arc", "dir": "cw", "center": [0, 0], "end": [1, 1]}', "line 1: arc rejected: radius is zero"),
+        ('{"op": "line", "delta": [1], "rate": -1}', 'line 1: "rate" must be'),
+        ('[1, 2]', "line 1: a segment must be a JSON object"),
+    ],
+)
+def test_segments_bad_file_names_the_line(tmp_path, text, needle):
+    f = tmp_path / "bad.jsonl"
+    f.write_text(text + "\n")
+    p = hp("segments", str(f))
+    assert p.returncode != 0 and p.stdout == ""
+    err = p.stderr.strip().splitlines()
+    assert len(err) == 1 and needle in err[0], p.stderr
+
+
+def test_segments_missing_file():
+    p = hp("segments", "no/such/file.jsonl")
+    assert p.returncode == 2 and "cannot read" in p.stderr

@@ -2,6 +2,7 @@
 """The ``halfpoint`` command line.
 
     halfpoint arc XS YS XE YE (--cw | --ccw) [--engine model|rtl] [--width W]
+    halfpoint segments FILE [--engine model|rtl]
     halfpoint demo [--out DIR] [--engine model|rtl|both]
 """
 
@@ -46,6 +47,10 @@ def build_parser() -> argparse.ArgumentParser:
     a.add_argument("--width", type=_int, default=32, help="coordinate width in bits (8..32)")
     a.add_argument("--no-header", action="store_true", help="omit the 'x,y' header line")
 
+    g = sub.add_parser("segments", help="run a segment file (JSON lines) through the motion core")
+    g.add_argument("file", help="segment file, one JSON object per line")
+    g.add_argument("--engine", choices=ENGINES, default="model")
+
     m = sub.add_parser("demo", help="shipped arcs through model and RTL, with plots")
     m.add_argument("--out", default="build/demo", help="output directory")
     m.add_argument("--engine", choices=ENGINES + ("both",), default="both")
@@ -71,12 +76,34 @@ def cmd_arc(args) -> int:
     return 0
 
 
+def cmd_segments(args) -> int:
+    from .segments import SegmentError, parse_segments, run_segments_model, run_segments_rtl
+
+    try:
+        with open(args.file, encoding="utf-8") as fh:
+            text = fh.read()
+    except OSError as exc:
+        raise UsageError(f"cannot read {args.file}: {exc.strerror}") from None
+    try:
+        segs = parse_segments(text)
+    except SegmentError as exc:
+        print(f"halfpoint: {args.file}: {exc}", file=sys.stderr)
+        return 3
+    cmds = [s.cmd for s in segs]
+    trace = (run_segments_rtl if args.engine == "rtl" else run_segments_model)(cmds)
+    out = [",".join("0" for _ in range(3))] + [",".join(str(v) for v in p) for p in trace]
+    sys.stdout.write("\n".join(out) + "\n")
+    return 0
+
+
 def main(argv=None) -> int:
     parser = build_parser()
     try:
         args = parser.parse_args(argv)
         if args.cmd == "arc":
             return cmd_arc(args)
+        if args.cmd == "segments":
+            return cmd_segments(args)
         if args.cmd == "demo":
             from .demo import run_demo
 

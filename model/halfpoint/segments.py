@@ -1,0 +1,145 @@
+# SPDX-License-Identifier: Apache-2.0
+"""Segment files (JSON lines) for ``halfpoint segments``, and running them.
+
+One segment per line, numbers in BLU, relative to the current position (like
+G91 with G91.1); blank lines and lines starting with ``#`` are skipped:
+
+    {"op": "line", "delta": [dx, dy, dz]}
+    {"op": "arc", "dir": "cw" | "ccw", "center": [i, j], "end": [ex, ey]}
+
+Optional on either: ``"rate"``, path speed in BLU per clock (default 2.0;
+the STEP/DIR timing then sets the pace).  Arcs are in the XY plane.  Every
+error names the line and the reason; an arc the core would reject is an
+error of the file, found before anything runs.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+
+from . import encoding as enc
+from .arc import ERR_TEXT as ARC_ERR_TEXT
+from .arc import validate
+
+AXES = 3
+WIDTH = 32
+DEFAULT_RATE = 2.0
+
+
+class SegmentError(ValueError):
+    def __init__(self, lineno: int, reason: str):
+        self.lineno = lineno
+        super().__init__(f"line {lineno}: {reason}")
+
+
+@dataclass
+class Segment:
+    lineno: int
+    cmd: int          # encoded core command
+
+
+def _int_list(obj, key, n_min, n_max, lineno):
+    v = obj.get(key)
+    if not isinstance(v, list) or not n_min <= len(v) <= n_max:
+        raise SegmentError(lineno, f'"{key}" must be a list of {n_min}..{n_max} integers')
+    for x in v:
+        if isinstance(x, bool) or not isinstance(x, int):
+            raise SegmentError(lineno, f'"{key}" must hold integers (BLU), got {x!r}')
+        if not -(1 << (WIDTH - 1)) <= x < (1 << (WIDTH - 1)):
+            raise SegmentError(lineno, f'"{key}" value {x} does not fit {WIDTH} bits')
+    return v
+
+
+def parse_segments(text: str) -> list[Segment]:
+    out = []
+    for lineno, raw in enumerate(text.splitlines(), start=1):
+        line = raw.strip()
+        if not line or line.startswith("#"):
+            continue
+        try:
+            obj = json.loads(line)
+        except json.JSONDecodeError as exc:
+            raise SegmentError(lineno, f"not valid JSON ({exc.msg})") from None
+        if not isinstance(obj, dict):
+            raise SegmentError(lineno, "a segment must be a JSON object")
+        op = obj.get("op")
+        allowed = {"op", "rate"} | ({"delta"} if op == "line" else {"dir", "center", "end"})
+        extra = sorted(set(obj) - allowed)
+        rate = obj.get("rate", DEFAULT_RATE)
+        if isinstance(rate, bool) or not isinstance(rate, (int, float)) or not 0 < rate < 256:
+            raise SegmentError(lineno, '"rate" must be a number of BLU per clock in (0, 256)')
+        rate_q = max(1, round(rate * enc.RATE_ONE))
+        if op == "line":
+            if extra:
+                raise SegmentError(lineno, f"unknown key {extra[0]!r} for a line")
+            d = _int_list(obj, "delta", 1, AXES, lineno)
+            out.append(Segment(lineno, enc.encode_line(d + [0] * (AXES - len(d)), rate_q)))
+        elif op == "arc":
+            if extra:
+                raise SegmentError(lineno, f"unknown key {extra[0]!r} for an arc")
+            if obj.get("dir") not in ("cw", "ccw"):
+                raise SegmentError(lineno, '"dir" must be "cw" or "ccw"')
+            i, j = _int_list(obj, "center", 2, 2, lineno)
+            ex, ey = _int_list(obj, "end", 2, 2, lineno)
+            cw = int(obj["dir"] == "cw")
+            code = validate(-i, -j, ex - i, ey - j, WIDTH)
+            if code:
+                raise SegmentError(lineno, f"arc rejected: {ARC_ERR_TEXT[code]}")
+            out.append(Segment(lineno, enc.encode_arc(cw, i, j, ex, ey, rate_q)))
+        else:
+            raise SegmentError(lineno, f'"op" must be "line" or "arc", got {op!r}')
+    return out
+
+
+def run_segments_model(cmds) -> list[tuple[int, ...]]:
+    """Positions after every move, from the cycle-accurate core model."""
+    from .core import CoreInputs, CoreModel
+    from .stepgen import StepCfg
+
+    m = CoreModel(AXES, WIDTH, 16, 16, [StepCfg(1, 0, 0, 0)] * AXES)
+    m.clock(CoreInputs(rst=1))
+    trace, idx, idle = [], 0, 0
+    while idx < len(cmds) or idle < 4:
+        o = m.outputs()
+        if o.move:
+            trace.append(o.pos)
+        if o.err:
+            raise RuntimeError(f"the core rejected a command (code {o.err_code})")
+        inp = CoreInputs()
+        if idx < len(cmds):
+            inp = CoreInputs(tvalid=1, tdata=cmds[idx])
+            if o.tready:
+                idx += 1
+        idle = 0 if (o.busy or idx < len(cmds)) else idle + 1
+        m.clock(inp)
+    return trace
+
+
+def run_segments_rtl(cmds) -> list[tuple[int, ...]]:
+    """Positions after every move, from the Verilator-simulated core."""
+    import os
+    import tempfile
+    from pathlib import Path
+
+    from .sim import BUILD, rtl_sources, run_cocotb
+
+    BUILD.mkdir(parents=True, exist_ok=True)
+    with tempfile.TemporaryDirectory(dir=BUILD) as tmp:
+        cmd_file, out_file = Path(tmp) / "cmds.json", Path(tmp) / "out.json"
+        cmd_file.write_text(json.dumps([str(c) for c in cmds]))
+        run_cocotb(
+            toplevel="halfpoint_core",
+            sources=rtl_sources("halfpoint_core", "halfpoint_arc", "halfpoint_line", "halfpoint_stepgen"),
+            test_module="halfpoint.rtl_engine_core",
+            test_dir=Path(tmp),
+            parameters={"NA": AXES, "W": WIDTH, "DEPTH": 16, "TW": 16},
+            build_name="engine_core",
+            extra_env={"HP_CMDS": str(cmd_file), "HP_OUT": str(out_file),
+                       "COCOTB_LOG_LEVEL": os.environ.get("COCOTB_LOG_LEVEL", "WARNING")},
+            quiet=True,
+        )
+        data = json.loads(out_file.read_text())
+    if data["errors"]:
+        raise RuntimeError(f"the core rejected a command (codes {data['errors']})")
+    return [tuple(p) for p in data["trace"]]
