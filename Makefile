@@ -2,6 +2,7 @@
 #   make setup   create .venv/ with the pinned dependencies (run by the others)
 #   make test    lint + model tests + cocotb/Verilator tests (what CI runs)
 #   make demo    shipped arcs through the model and the RTL, plot in build/demo/
+#   make bench   performance figures, table + build/bench.json
 #   make lint    verilator --lint-only -Wall on rtl/
 #   make clean   remove build/ (keeps .venv/)
 
@@ -11,7 +12,7 @@ VPY     := $(VENV)/bin/python
 STAMP   := $(VENV)/.setup-done
 JOBS    ?= 2
 
-.PHONY: setup test lint demo clean distclean
+.PHONY: setup test lint demo bench clean distclean
 
 setup: $(STAMP)
 
@@ -31,6 +32,9 @@ test: setup lint
 
 demo: setup
 	$(VENV)/bin/halfpoint demo --out build/demo
+
+bench: setup
+	$(VPY) -m halfpoint.bench
 
 clean:
 	rm -rf build

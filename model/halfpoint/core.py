@@ -111,6 +111,7 @@ class CoreModel:
     depth: int = 16
     tw: int = 16
     cfg: list = field(default_factory=list)     # StepCfg per axis
+    diag_weighting: bool = True   # False: every move costs the same (a baseline, not the RTL)
 
     def __post_init__(self) -> None:
         if not 2 <= self.axes <= 6:
@@ -136,6 +137,12 @@ class CoreModel:
         self.o_err = 0
         self.o_err_code = 0
         self.o_underrun = 0
+        # statistics (not ports): clocks that moved, that a running segment
+        # was held by feed or STEP/DIR timing, and that work was waiting but
+        # no segment was running after the first move (sequencing bubbles)
+        self.stat_moves = 0
+        self.stat_held = 0
+        self.stat_starved = 0
 
     # ------------------------------------------------------------------
     def _running(self) -> str | None:
@@ -181,12 +188,19 @@ class CoreModel:
         cost = COST_AXIS
         if unit is not None:
             steps, diag = self._peek(unit)
-            cost = COST_DIAG if diag else COST_AXIS
+            cost = COST_DIAG if (diag and self.diag_weighting) else COST_AXIS
             ready = all(
                 s == 0 or (sg.outputs(c).ready_pos if s > 0 else sg.outputs(c).ready_neg)
                 for s, sg, c in zip(steps, self.stepgens, self.cfg)
             )
             go = ready and self.credit >= cost
+            if go:
+                self.stat_moves += 1
+            else:
+                self.stat_held += 1
+        elif self.stat_moves and (self.queue or self.inflight is not None
+                                  or self.arc.vstate or self.line.vstate):
+            self.stat_starved += 1
 
         # --- dispatcher (combinational on the queue head) ---
         disp_valid = {"arc": 0, "line": 0}

@@ -33,6 +33,8 @@ def random_cfg(rng):
 
 
 def check_end(bench, cmds):
+    """Positions, final position, error codes and pin-counted steps as the
+    host expects them."""
     trace, final, errors = expect(cmds, NA, W)
     assert bench.trace == trace, "positions after the moves differ from the host's expectation"
     assert bench.last["pos"] == final
@@ -121,3 +123,36 @@ async def underrun_flag(dut):
     await bench.send(cmds)
     await bench.drain()
     assert bench.last["underrun"] == 1
+
+
+@cocotb.test()
+async def no_idle_clock_at_boundaries(dut):
+    """With segments queued ahead, some segment is in a run stage on every
+    clock from the first move to the last: a boundary between arcs and lines,
+    in any order, costs no clock (read from the RTL's own run flags)."""
+    rng = random.Random(SEED + 4)
+    bench = CoreBench(dut, NA, W, DEPTH, TW, cfg=[StepCfg(1, 0, 0, 0)] * NA, seed=SEED + 4)
+    await bench.start()
+    cmds = []
+    while len(cmds) < 24:
+        c = random_arc(rng, 2 * enc.RATE_ONE, cont=True, rmin=12, rmax=30) if len(cmds) % 3 \
+            else random_line(rng, NA, 2 * enc.RATE_ONE, cont=True, scale=60)
+        n = len(expect([c], NA, W)[0])
+        if n >= 50:
+            cmds.append(c)
+    cmds[-1] &= ~enc.FLAG_CONT          # the program's last segment
+    running = []
+
+    async def watch():
+        while True:
+            await FallingEdge(dut.clk)
+            running.append((bench.moves, int(dut.arc_run.value) | int(dut.line_run.value)))
+
+    cocotb.start_soon(watch())
+    await bench.send(cmds)
+    await bench.drain()
+    check_end(bench, cmds)
+    total = bench.moves
+    active = [r for m, r in running if 0 < m < total]
+    assert active and all(active), f"{active.count(0)} clocks without a running segment"
+    assert bench.last["underrun"] == 0
