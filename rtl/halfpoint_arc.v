@@ -41,6 +41,10 @@
 //   W   coordinate width in bits, 8..32 (signed coordinates).  The datapath
 //       (D1, D2, F, increments) is W+2 bits wide.
 //
+// abort_now: at the next edge no move is made and the running, pending and
+// validating arcs are dropped (no reject is reported for them); outputs x, y,
+// f keep the last point; s_ready is low while abort_now is high.
+//
 // Reset: synchronous, active high, clears control state and outputs.
 // ============================================================================
 module halfpoint_arc #(
@@ -71,6 +75,7 @@ module halfpoint_arc #(
     output reg                 reject,
     output reg  [1:0]          err_code,
     // sequencing (for the motion core; tie start_en high when used alone)
+    input  wire                abort_now,      // drop the running, pending and validated arcs now
     input  wire                start_en,   // the pending arc may enter the run stage
     output wire                running,    // an arc is in the run stage
     output wire                loading,    // the pending arc enters the run stage at this edge
@@ -156,7 +161,7 @@ module halfpoint_arc #(
     reg  [W-1:0]  p_ue1_q, p_uem1_q, p_vem1_q;
     reg           p_armed_q, p_oct1_q, p_ve0_q;
 
-    assign s_ready = (vstate_q == V_IDLE);
+    assign s_ready = (vstate_q == V_IDLE) && !abort_now;
     wire   accept  = s_valid && s_ready;
 
     function [W-1:0] mag;
@@ -198,7 +203,7 @@ module halfpoint_arc #(
     wire           load;
 
     always @(posedge clk) begin
-        if (rst) begin
+        if (rst || abort_now) begin
             vstate_q <= V_IDLE;
             vcnt_q   <= 6'd0;
         end else begin
@@ -299,7 +304,7 @@ module halfpoint_arc #(
     wire u_one = (u_q == {{(W-1){1'b0}}, 1'b1});
     wire xing = u_one && dec_u;                     // u reaches 0: next quadrant
 
-    wire ce    = run_q && en;
+    wire ce    = run_q && en && !abort_now;
 
     // increments of the crossing cases, from -(2v+2) = ~P2 + 1
     wire [DW-1:0] np2 = ~p2_q;
@@ -379,7 +384,7 @@ module halfpoint_arc #(
                             (xing && (q_n == qe_q) && past_entry));
     wire last = ce && stop;
 
-    assign load = (vstate_q == V_HOLD) && start_en && (!run_q || last);
+    assign load = (vstate_q == V_HOLD) && start_en && !abort_now && (!run_q || last);
 
     assign running = run_q;
     assign loading = load;
@@ -390,7 +395,7 @@ module halfpoint_arc #(
     assign busy = run_q || (vstate_q != V_IDLE);
 
     always @(posedge clk) begin
-        if (rst) begin
+        if (rst || abort_now) begin
             run_q <= 1'b0;
         end else if (load) begin
             run_q <= 1'b1;
@@ -445,8 +450,8 @@ module halfpoint_arc #(
                 x <= c_xs_q; y <= c_ys_q; f <= {DW{1'b0}};
             end
             done   <= last;
-            reject <= (vstate_q == V_DEC) && (dec_err != 2'd0);
-            if ((vstate_q == V_DEC) && (dec_err != 2'd0)) err_code <= dec_err;
+            reject <= (vstate_q == V_DEC) && (dec_err != 2'd0) && !abort_now;
+            if ((vstate_q == V_DEC) && (dec_err != 2'd0) && !abort_now) err_code <= dec_err;
         end
     end
 

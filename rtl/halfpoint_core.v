@@ -25,6 +25,10 @@
 // err_code and pulse err; the rest of the program runs.  A line whose deltas
 // are all zero is a no-op.  underrun is set (sticky until reset) when a
 // segment flagged CONT ended and no segment started at that edge.
+// abort_now (level): at each edge while it is high no move is made, the queue,
+// the command in flight and both units' segments are dropped and the feed
+// credit is cleared; tready is low.  A STEP pulse already started completes
+// with its full timing; positions keep every step made.
 //
 // Parameters:
 //   NA     number of axes, 2..6 (arcs move axes 0 and 1)
@@ -54,6 +58,7 @@ module halfpoint_core #(
     input  wire [NA-1:0]      cfg_step_inv,
     input  wire [NA-1:0]      cfg_dir_inv,
     input  wire [7:0]         feed_override,   // percent, values above 200 act as 200
+    input  wire               abort_now,           // stop now: no move, queue and pending segments dropped
     // outputs
     output wire [NA-1:0]      step_pin,
     output wire [NA-1:0]      dir_pin,
@@ -97,14 +102,14 @@ module halfpoint_core #(
     localparam [AW-1:0] P1 = {{(AW-1){1'b0}}, 1'b1};
     localparam [AW:0] C1 = {{AW{1'b0}}, 1'b1};
 
-    assign s_axis_tready = (count_q != FULL);
+    assign s_axis_tready = (count_q != FULL) && !abort_now;
     assign queue_level   = count_q;
 
     always @(posedge clk) begin
         if (push) mem[wr_q] <= s_axis_tdata;
     end
     always @(posedge clk) begin
-        if (rst) begin
+        if (rst || abort_now) begin
             wr_q <= {AW{1'b0}}; rd_q <= {AW{1'b0}}; count_q <= {(AW+1){1'b0}};
         end else begin
             if (push) wr_q <= wr_q + P1;
@@ -181,7 +186,7 @@ module halfpoint_core #(
     // Dispatcher
     // ------------------------------------------------------------------
     reg         inflight_q;
-    wire        head_ok = (count_q != {(AW+1){1'b0}}) && !inflight_q;
+    wire        head_ok = (count_q != {(AW+1){1'b0}}) && !inflight_q && !abort_now;
     wire        arc_s_valid  = head_ok && is_arc && !bad_op && !bad_fit;
     wire        line_s_valid = head_ok && is_line && !bad_op && !bad_fit && !l_zero;
     wire        arc_s_ready, line_s_ready;
@@ -213,7 +218,7 @@ module halfpoint_core #(
         .busy(arc_busy), .move(unused_arc_move), .step_x(unused_arc_sx), .step_y(unused_arc_sy),
         .dir_x(unused_arc_dx), .dir_y(unused_arc_dy), .x(unused_arc_x), .y(unused_arc_y),
         .f(unused_arc_f), .done(unused_arc_done), .reject(arc_reject), .err_code(arc_err),
-        .start_en(!line_run || line_ending), .running(arc_run), .loading(arc_loading),
+        .abort_now(abort_now), .start_en(!line_run || line_ending), .running(arc_run), .loading(arc_loading),
         .ending(arc_ending), .nx_step(arc_nx_step), .nx_dir(arc_nx_dir), .nx_diag(arc_nx_diag)
     );
 
@@ -222,7 +227,7 @@ module halfpoint_core #(
         .s_valid(line_s_valid), .s_ready(line_s_ready), .s_delta(l_delta),
         .busy(line_busy), .move(unused_line_move), .step(unused_line_step), .dir(unused_line_dir),
         .done(unused_line_done), .reject(line_reject), .err_code(line_err),
-        .start_en(!arc_run || arc_ending), .running(line_run), .loading(line_loading),
+        .abort_now(abort_now), .start_en(!arc_run || arc_ending), .running(line_run), .loading(line_loading),
         .ending(line_ending), .nx_step(line_nx_step), .nx_dir(line_nx_dir)
     );
 
@@ -236,7 +241,7 @@ module halfpoint_core #(
     reg        arc_cont_p, line_cont_p, arc_cont_a, line_cont_a;
 
     always @(posedge clk) begin
-        if (rst) begin
+        if (rst || abort_now) begin
             inflight_q <= 1'b0;
             arc_rate_a <= 32'd0; line_rate_a <= 32'd0;
             arc_cont_a <= 1'b0;  line_cont_a <= 1'b0;
@@ -263,7 +268,7 @@ module halfpoint_core #(
     wire          diag     = arc_run && arc_nx_diag;
     wire          ok_axis  = (credit_q >= COST_AXIS);
     wire          ok_diag  = (credit_q >= COST_DIAG);
-    assign go = (arc_run || line_run) && steps_ready && (diag ? ok_diag : ok_axis);
+    assign go = (arc_run || line_run) && steps_ready && (diag ? ok_diag : ok_axis) && !abort_now;
 
     wire [8:0]  ov_eff = (feed_override > 8'd200) ? 9'd200 : {1'b0, feed_override};
     wire [8:0]  ov_sum = ov_q + ov_eff;
@@ -277,6 +282,8 @@ module halfpoint_core #(
         if (rst) begin
             credit_q <= 35'd0;
             ov_q     <= 9'd0;
+        end else if (abort_now) begin
+            credit_q <= 35'd0;
         end else begin
             credit_q <= (credit_n > CREDIT_CAP) ? CREDIT_CAP : credit_n;
             ov_q     <= ov_sum - ((ov_k == 2'd2) ? 9'd200 : (ov_k == 2'd1) ? 9'd100 : 9'd0);
@@ -323,10 +330,12 @@ module halfpoint_core #(
             move <= 1'b0; err <= 1'b0; err_code <= 4'd0; underrun <= 1'b0;
         end else begin
             move <= go;
-            err  <= disp_err || arc_reject || line_reject;
-            if (disp_err)         err_code <= bad_op ? E_OPCODE : E_FIELD;
-            else if (arc_reject)  err_code <= arc_code;
-            else if (line_reject) err_code <= E_OPCODE;
+            err  <= !abort_now && (disp_err || arc_reject || line_reject);
+            if (!abort_now) begin
+                if (disp_err)         err_code <= bad_op ? E_OPCODE : E_FIELD;
+                else if (arc_reject)  err_code <= arc_code;
+                else if (line_reject) err_code <= E_OPCODE;
+            end
             if (ending && cont && !arc_loading && !line_loading) underrun <= 1'b1;
         end
     end

@@ -32,6 +32,10 @@
 //   NA  number of axes, 1..6
 //   W   delta width in bits, 8..32 (signed deltas); the datapath is W+2 bits
 //
+// abort_now: at the next edge no move is made and the running, pending and
+// validating segments are dropped (no reject for them); s_ready is low while
+// abort_now is high.
+//
 // Reset: synchronous, active high, clears control state and outputs.
 // ============================================================================
 module halfpoint_line #(
@@ -52,6 +56,7 @@ module halfpoint_line #(
     output reg                reject,
     output reg  [1:0]         err_code,
     // sequencing (for the motion core; tie start_en high when used alone)
+    input  wire               abort_now,      // drop the running, pending and validated segments now
     input  wire               start_en,   // the pending segment may enter the run stage
     output wire               running,    // a segment is in the run stage
     output wire               loading,    // the pending segment enters the run stage at this edge
@@ -83,7 +88,7 @@ module halfpoint_line #(
     reg  [NA*DW-1:0] p_e_q, p_ks_q, p_kn_q;
     reg  [W-1:0]    p_cnt_q;
 
-    assign s_ready = (vstate_q == L_IDLE);
+    assign s_ready = (vstate_q == L_IDLE) && !abort_now;
     wire   accept  = s_valid && s_ready;
     wire   empty   = (max_q == {W{1'b0}});
     wire   load;
@@ -91,7 +96,7 @@ module halfpoint_line #(
     wire [W-1:0] mag_sel = c_mag_q[vcnt_q*W +: W];
 
     always @(posedge clk) begin
-        if (rst) begin
+        if (rst || abort_now) begin
             vstate_q <= L_IDLE;
         end else begin
             case (vstate_q)
@@ -145,9 +150,9 @@ module halfpoint_line #(
     reg  [NA*DW-1:0] e_q, ks_q, kn_q;
     wire [NA-1:0]    stp;
 
-    wire ce   = run_q && en;
+    wire ce   = run_q && en && !abort_now;
     wire last = ce && (cnt_q == ONE_W);
-    assign load = (vstate_q == L_HOLD) && start_en && (!run_q || last);
+    assign load = (vstate_q == L_HOLD) && start_en && !abort_now && (!run_q || last);
 
     assign running = run_q;
     assign loading = load;
@@ -173,7 +178,7 @@ module halfpoint_line #(
     endgenerate
 
     always @(posedge clk) begin
-        if (rst) begin
+        if (rst || abort_now) begin
             run_q <= 1'b0;
         end else if (load) begin
             run_q <= 1'b1;
@@ -200,8 +205,8 @@ module halfpoint_line #(
             step <= ce ? stp : {NA{1'b0}};
             if (ce) dir <= (dir & ~stp) | (~neg_q & stp);
             done <= last;
-            reject <= (vstate_q == L_INIT) && empty;
-            if ((vstate_q == L_INIT) && empty) err_code <= 2'd1;
+            reject <= (vstate_q == L_INIT) && empty && !abort_now;
+            if ((vstate_q == L_INIT) && empty && !abort_now) err_code <= 2'd1;
         end
     end
 

@@ -411,6 +411,7 @@ class ArcInputs:
     en: int = 1
     rst: int = 0
     start_en: int = 1
+    abort: int = 0
 
 
 @dataclass
@@ -453,9 +454,10 @@ class ArcUnitModel:
             x=0, y=0, f=0, done=0, reject=0, err_code=ERR_NONE,
         )
 
-    def outputs(self) -> ArcOutputs:
+    def outputs(self, abort: int = 0) -> ArcOutputs:
+        """Outputs during this cycle; s_ready also depends on the abort input."""
         o = self.out
-        o.s_ready = int(self.vstate == V_IDLE)
+        o.s_ready = int(self.vstate == V_IDLE and not abort)
         o.busy = int(self.run is not None or self.vstate != V_IDLE)
         return ArcOutputs(**vars(o))
 
@@ -465,6 +467,10 @@ class ArcUnitModel:
             return
         o = self.out
         o.move = o.step_x = o.step_y = o.done = o.reject = 0
+        if i.abort:
+            self.run = None
+            self.vstate = V_IDLE
+            return
 
         # Run stage: one move when enabled.
         finishing = False

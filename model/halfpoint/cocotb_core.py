@@ -42,6 +42,7 @@ class CoreBench:
         self.cycle = 0
         self.override = 100
         self.override_schedule: dict[int, int] = {}
+        self.abort_schedule: set[int] = set()     # cycles with abort high
         self.trace: list[tuple] = []       # positions after every move
         self.max_level = 0
         self.errors: list[tuple[int, int]] = []   # (cycle, code)
@@ -65,6 +66,7 @@ class CoreBench:
         d.cfg_step_inv.value = sum(c.step_inv << k for k, c in enumerate(self.cfg))
         d.cfg_dir_inv.value = sum(c.dir_inv << k for k, c in enumerate(self.cfg))
         d.feed_override.value = self.override
+        d.abort_now.value = 0
 
     def _read(self) -> dict:
         d = self.dut
@@ -124,10 +126,13 @@ class CoreBench:
             if self.cycle in self.override_schedule:
                 self.override = self.override_schedule[self.cycle]
                 d.feed_override.value = self.override
+            abort = int(self.cycle in self.abort_schedule)
+            d.abort_now.value = abort
             inp = CoreInputs(
                 tvalid=int(d.s_axis_tvalid.value),
                 tdata=int(d.s_axis_tdata.value) if int(d.s_axis_tvalid.value) else 0,
                 override=self.override,
+                abort=abort,
             )
             self.model.clock(inp)
             self.cycle += 1

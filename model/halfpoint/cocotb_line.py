@@ -38,6 +38,7 @@ class LineBench(UnitBench):
         d.rst.value = i.rst
         d.en.value = i.en
         d.start_en.value = i.start_en
+        d.abort_now.value = i.abort
         d.s_valid.value = i.s_valid
         d.s_delta.value = self._pack(i.s_delta)
 

@@ -88,6 +88,7 @@ class CoreInputs:
     tdata: int = 0
     override: int = 100
     rst: int = 0
+    abort: int = 0
 
 
 @dataclass
@@ -137,12 +138,25 @@ class CoreModel:
         self.o_err = 0
         self.o_err_code = 0
         self.o_underrun = 0
+        self.abort_pin = 0          # abort as last driven: tready depends on it
         # statistics (not ports): clocks that moved, that a running segment
         # was held by feed or STEP/DIR timing, and that work was waiting but
         # no segment was running after the first move (sequencing bubbles)
         self.stat_moves = 0
         self.stat_held = 0
         self.stat_starved = 0
+
+    def _abort(self) -> None:
+        """An edge with abort high: no move, everything not yet moved dropped."""
+        self.queue.clear()
+        self.inflight = None
+        self.arc.clock(ArcInputs(abort=1))
+        self.line.clock(LineInputs(s_delta=(0,) * self.axes, abort=1))
+        self.credit = 0
+        for sg, c in zip(self.stepgens, self.cfg):
+            sg.clock(c, StepInputs())
+        self.o_move = 0
+        self.o_err = 0
 
     # ------------------------------------------------------------------
     def _running(self) -> str | None:
@@ -169,7 +183,7 @@ class CoreModel:
             or self.arc.outputs().busy or self.line.outputs().busy \
             or any(sg.state != 0 for sg in self.stepgens)
         return CoreOutputs(
-            tready=int(len(self.queue) < self.depth), busy=int(busy),
+            tready=int(len(self.queue) < self.depth and not self.abort_pin), busy=int(busy),
             level=len(self.queue), move=self.o_move, pos=tuple(self.pos),
             step_pins=step_pins, dir_pins=dir_pins, err=self.o_err,
             err_code=self.o_err_code, underrun=self.o_underrun,
@@ -178,6 +192,10 @@ class CoreModel:
     def clock(self, i: CoreInputs) -> None:
         if i.rst:
             self.reset()
+            return
+        self.abort_pin = i.abort
+        if i.abort:
+            self._abort()
             return
         unit = self._running()
         arc_o, line_o = self.arc.outputs(), self.line.outputs()

@@ -111,6 +111,7 @@ class LineInputs:
     en: int = 1
     rst: int = 0
     start_en: int = 1
+    abort: int = 0
 
 
 @dataclass
@@ -141,9 +142,10 @@ class LineUnitModel:
         self.run: LineRun | None = None
         self.out = LineOutputs(s_ready=1, busy=0, move=0, step=0, dir=0, done=0, reject=0, err_code=0)
 
-    def outputs(self) -> LineOutputs:
+    def outputs(self, abort: int = 0) -> LineOutputs:
+        """Outputs during this cycle; s_ready also depends on the abort input."""
         o = self.out
-        o.s_ready = int(self.vstate == L_IDLE)
+        o.s_ready = int(self.vstate == L_IDLE and not abort)
         o.busy = int(self.run is not None or self.vstate != L_IDLE)
         return LineOutputs(**vars(o))
 
@@ -153,6 +155,10 @@ class LineUnitModel:
             return
         o = self.out
         o.move = o.step = o.done = o.reject = 0
+        if i.abort:
+            self.run = None
+            self.vstate = L_IDLE
+            return
         if self.run is not None and i.en:
             steps = self.run.move()
             o.move = 1
