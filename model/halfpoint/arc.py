@@ -331,6 +331,59 @@ def lattice_point_near(r2: int, theta: float) -> tuple[int, int]:
     return best[1]
 
 
+def arc_stop(xs: int, ys: int, xe: int, ye: int, cw: int) -> tuple[int, int, int]:
+    """(x, y, moves) where an accepted arc stops: the same rule as
+    :class:`ArcRun`, in a lean loop for the host toolchain (the tests hold the
+    two equal).  The caller has validated the command."""
+    x, y, f = xs, ys, 0
+    q, u, v = frame(xs, ys, cw)
+    qe, ue, ve = frame(xe, ye, cw)
+    oct1 = ve <= ue
+    if oct1:
+        armed = not (q == qe and (v > ve or (v == ve and u <= ue)))
+    else:
+        armed = not (q == qe and (u < ue or (u == ue and v >= ve)))
+    step = -1 if cw else 1
+    n = 0
+    while True:
+        d1 = f - 2 * u + v + 1
+        if d1 >= 0:
+            du, dv = 1, 0
+        elif f - u + 2 * v + 1 >= 0:
+            du, dv = 1, 1
+        else:
+            du, dv = 0, 1
+        # physical step: u towards the axis, v away from it
+        sx = 1 if q in (0, 3) else -1
+        sy = 1 if q in (0, 1) else -1
+        if (q & 1) == cw:
+            x -= sx * du
+            y += sy * dv
+        else:
+            x += sx * dv
+            y -= sy * du
+        f += dv * (2 * v + 1) - du * (2 * u - 1)
+        n += 1
+        u -= du
+        v += dv
+        q_old = q
+        crossing = u == 0
+        if crossing:
+            q = (q + step) % 4
+            u, v = v, 0
+        if armed and (q_old == qe or (crossing and q == qe)):
+            if q_old == qe and crossing:
+                return x, y, n
+            if oct1:
+                past = v > ve or (v == ve and u <= ue)
+            else:
+                past = u < ue or (u == ue and v >= ve)
+            if past:
+                return x, y, n
+        if crossing:
+            armed = True
+
+
 def radial_errors(points, r: float):
     """Radial distance of each lattice point from the true circle, in BLU."""
     import numpy as np

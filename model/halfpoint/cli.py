@@ -3,6 +3,8 @@
 
     halfpoint arc XS YS XE YE (--cw | --ccw) [--engine model|rtl] [--width W]
     halfpoint segments FILE [--engine model|rtl]
+    halfpoint compensate PROGRAM.ngc [--radius R] [--tools FILE] [--strict]
+    halfpoint run PROGRAM.ngc [--engine model|rtl] [--plot out.png] [--trace out.csv]
     halfpoint demo [--out DIR] [--engine model|rtl|both]
 """
 
@@ -13,6 +15,7 @@ import sys
 
 from .arc import ERR_TEXT, ArcRejected, check_width, field_ok
 from .engines import ENGINES, run_arcs
+from .gcode import GcodeError
 
 
 class UsageError(Exception):
@@ -51,10 +54,64 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("file", help="segment file, one JSON object per line")
     g.add_argument("--engine", choices=ENGINES, default="model")
 
+    c = sub.add_parser("compensate", help="apply cutter compensation, print plain G-code")
+    c.add_argument("program", help="G-code program (LinuxCNC dialect subset)")
+    _comp_args(c)
+
+    r = sub.add_parser("run", help="G-code through compensation, quantisation and the core")
+    r.add_argument("program", help="G-code program (LinuxCNC dialect subset)")
+    _comp_args(r)
+    r.add_argument("--engine", choices=ENGINES, default="model")
+    r.add_argument("--blu", type=float, default=0.001, help="BLU in mm, all axes (default 0.001)")
+    r.add_argument("--plot", help="write a PNG: programmed, compensated and lattice paths")
+    r.add_argument("--trace", help="write a CSV of the lattice position after every move")
+
     m = sub.add_parser("demo", help="shipped arcs through model and RTL, with plots")
     m.add_argument("--out", default="build/demo", help="output directory")
     m.add_argument("--engine", choices=ENGINES + ("both",), default="both")
     return p
+
+
+def _comp_args(p) -> None:
+    p.add_argument("--radius", type=float, help="tool radius in mm for every G41/G42 (overrides --tools)")
+    p.add_argument("--tools", help="LinuxCNC tool table (T<n> P<p> D<diameter>) for G41/G42 D<n>")
+    p.add_argument("--strict", action="store_true",
+                   help="a contour the tool cannot follow is an error (default: skip it, warn)")
+    p.add_argument("--window", type=int, default=5, help="blocks searched for interference (default 5)")
+
+
+def cmd_compensate(args) -> int:
+    from .run import load_program, print_warnings, to_gcode
+
+    if args.window < 1:
+        raise UsageError("--window must be at least 1")
+    _, comp = load_program(args.program, args.radius, args.tools, args.strict, args.window)
+    print_warnings(args.program, comp.warnings)
+    sys.stdout.write(to_gcode(comp.moves))
+    return 0
+
+
+def cmd_run(args) -> int:
+    from .run import plot_run, print_warnings, run_program, write_trace
+
+    if args.blu <= 0:
+        raise UsageError("--blu must be positive")
+    res = run_program(args.program, args.engine, args.radius, args.tools, args.strict,
+                      (args.blu,) * 3, args.window)
+    print_warnings(args.program, res.warnings)
+    print(f"blocks: {len(res.programmed)} programmed, {len(res.compensated)} after compensation")
+    print(f"lattice moves: {len(res.lattice)} (engine: {args.engine}, BLU {args.blu:g} mm)")
+    end = res.lattice[-1] if res.lattice else (0, 0, 0)
+    print(f"final position: {', '.join(f'{v * args.blu:.4f}' for v in end)} mm")
+    print(f"max deviation of the lattice path from the compensated path: "
+          f"{res.max_dev_mm:.6f} mm ({res.max_dev_mm / args.blu:.3f} BLU)")
+    if args.plot:
+        plot_run(res, args.plot, f"{args.program} ({args.engine})")
+        print(f"plot: {args.plot}")
+    if args.trace:
+        write_trace(res, args.trace)
+        print(f"trace: {args.trace}")
+    return 0
 
 
 def cmd_arc(args) -> int:
@@ -104,6 +161,10 @@ def main(argv=None) -> int:
             return cmd_arc(args)
         if args.cmd == "segments":
             return cmd_segments(args)
+        if args.cmd == "compensate":
+            return cmd_compensate(args)
+        if args.cmd == "run":
+            return cmd_run(args)
         if args.cmd == "demo":
             from .demo import run_demo
 
@@ -114,6 +175,12 @@ def main(argv=None) -> int:
     except ArcRejected as exc:
         print(f"halfpoint: arc rejected (code {exc.code}): {exc}", file=sys.stderr)
         return 3
+    except GcodeError as exc:
+        print(f"halfpoint: {getattr(args, 'program', '')}: {exc}", file=sys.stderr)
+        return 3
+    except OSError as exc:
+        print(f"halfpoint: cannot read {exc.filename}: {exc.strerror}", file=sys.stderr)
+        return 2
     return 1
 
 

@@ -151,3 +151,24 @@ def test_cycle_model_timing():
     # W+5 validator clocks to HOLD, one load edge, one move edge
     assert first == validate_latency(w) + 2
 
+
+
+def test_lean_stop_predictor_equals_the_model():
+    """arc_stop (the host's fast predictor) stops where ArcRun stops."""
+    from halfpoint.arc import arc_stop
+
+    rng = random.Random(11)
+    for _ in range(800):
+        xs, ys = rng.randint(-150, 150), rng.randint(-150, 150)
+        if xs == 0 and ys == 0:
+            continue
+        cw = rng.randint(0, 1)
+        r2 = xs * xs + ys * ys
+        from halfpoint.arc import lattice_point_near
+        xe, ye = lattice_point_near(r2, rng.uniform(0, 2 * math.pi))
+        if rng.random() < 0.1:
+            xe, ye = xs, ys
+        if validate(xs, ys, xe, ye, 32):
+            continue
+        pts = arc_points(xs, ys, xe, ye, cw)
+        assert arc_stop(xs, ys, xe, ye, cw) == (*pts[-1], len(pts) - 1)

@@ -1,0 +1,100 @@
+# SPDX-License-Identifier: Apache-2.0
+"""Quantisation: moves in mm -> motion-core commands on the BLU lattice.
+
+* One BLU per axis (default 0.001 mm); X and Y must share it (arcs are
+  circles on the lattice).
+* Every target point is rounded to the lattice and every command is relative
+  to where the core really is, so segments chain exactly and no rounding error
+  accumulates.
+* Arcs: the centre is rounded to the lattice; the radius is the distance from
+  the current lattice point (the core's definition); the end is the lattice
+  point at the programmed end's angle that the core accepts, and the current
+  point afterwards is where the core's arc unit will actually stop (the
+  model's prediction, within 1 BLU per axis of that end).
+* Every point and centre must fit the core's signed coordinate width; the
+  error names the line.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from . import encoding as enc
+from .arc import arc_stop, lattice_point_near, validate
+from .gcode import GcodeError, Move
+
+DEFAULT_BLU = 0.001
+
+
+@dataclass
+class Quantised:
+    cmds: list[int] = field(default_factory=list)
+    moves_per_cmd: list[int] = field(default_factory=list)   # lattice moves each command makes
+    src: list[Move] = field(default_factory=list)            # the move behind each command
+    end: tuple[int, int, int] = (0, 0, 0)                     # lattice position at the end
+
+
+def _fits(v: int, width: int) -> bool:
+    return -(1 << (width - 1)) < v < (1 << (width - 1)) - 1
+
+
+def quantise(moves: list[Move], blu=(DEFAULT_BLU,) * 3, width: int = 32,
+             rate: float = 2.0) -> Quantised:
+    if abs(blu[0] - blu[1]) > 1e-15:
+        raise ValueError("X and Y must have the same BLU (arcs are circles on the lattice)")
+    if min(blu) <= 0:
+        raise ValueError("a BLU must be positive")
+    rate_q = max(1, round(rate * enc.RATE_ONE))
+    q = Quantised()
+    cur = [0, 0, 0]
+
+    def lat(p, k):
+        return round(p / blu[k])
+
+    for m in moves:
+        if m.kind in ("rapid", "line"):
+            t = [lat(m.end[k], k) for k in range(3)]
+            if not all(_fits(v, width) for v in t):
+                raise GcodeError(m.lineno, f"end point outside the core's {width}-bit range at this BLU")
+            d = [t[k] - cur[k] for k in range(3)]
+            if not any(d):
+                continue
+            q.cmds.append(enc.encode_line(d, rate_q))
+            q.moves_per_cmd.append(max(abs(v) for v in d))
+            q.src.append(m)
+            cur = t
+            continue
+        if m.plane != 17:
+            raise GcodeError(m.lineno, "the core interpolates arcs in the XY plane (G17) only")
+        c = (lat(m.center[0], 0), lat(m.center[1], 1))
+        if not all(_fits(v, width) for v in c):
+            raise GcodeError(m.lineno, f"arc centre outside the core's {width}-bit range at this BLU")
+        xs, ys = cur[0] - c[0], cur[1] - c[1]
+        if xs == 0 and ys == 0:
+            raise GcodeError(m.lineno, "arc radius is below one BLU")
+        full = m.start[:2] == m.end[:2]          # a programmed full circle
+        if full:
+            xe, ye = xs, ys
+        else:
+            xe, ye = lat(m.end[0], 0) - c[0], lat(m.end[1], 1) - c[1]
+            if (xe, ye) == (xs, ys):
+                continue        # an arc shorter than the lattice: no motion
+            if validate(xs, ys, xe, ye, width):
+                ang = math.atan2(m.end[1] - m.center[1], m.end[0] - m.center[0])
+                xe, ye = lattice_point_near(xs * xs + ys * ys, ang)
+                if (xe, ye) == (xs, ys):
+                    continue
+        code = validate(xs, ys, xe, ye, width)
+        if code:
+            raise GcodeError(m.lineno, "arc cannot be put on the lattice (radius too large for the width?)")
+        sx, sy, n = arc_stop(xs, ys, xe, ye, int(m.cw))
+        q.cmds.append(enc.encode_arc(int(m.cw), c[0] - cur[0], c[1] - cur[1],
+                                     c[0] + xe - cur[0], c[1] + ye - cur[1], rate_q))
+        q.moves_per_cmd.append(n)
+        q.src.append(m)
+        cur = [c[0] + sx, c[1] + sy, cur[2]]
+        if not all(_fits(v, width) for v in cur):
+            raise GcodeError(m.lineno, f"arc leaves the core's {width}-bit range at this BLU")
+    q.end = tuple(cur)
+    return q
