@@ -110,6 +110,7 @@ def offset_contour(contour: list[Move], side: str, r: float, window: int = 5,
     n_el = len(elems)
     while i < n_el:
         e = elems[i]
+        e_line = type(e) is Line or e.corner
         found = None
         ex0, ey0, ex1, ey1 = boxes[i]
         ex0 -= 1e-9
@@ -121,6 +122,10 @@ def offset_contour(contour: list[Move], side: str, r: float, window: int = 5,
             if fx0 > ex1 or ex0 > fx1 or fy0 > ey1 or ey0 > fy1:
                 continue            # bounding boxes apart: no intersection
             f = elems[j]
+            if j == i + 1 and (e_line or f.corner or type(f) is Line) and _close(e.end, f.start):
+                # joined neighbours: two lines meet once, and a corner arc is
+                # tangent to its neighbours, so the joint is their only contact
+                continue
             for ta, tb, p in intersect(e, f):
                 if ta <= TOL and _close(p, e.start):
                     continue        # the joint with the element before e

@@ -37,7 +37,7 @@ class GcodeError(ValueError):
         super().__init__(f"line {lineno}: {reason}")
 
 
-@dataclass
+@dataclass(slots=True)
 class Move:
     """One motion block, in mm, absolute machine coordinates."""
 

@@ -6,6 +6,8 @@
 * Every target point is rounded to the lattice and every command is relative
   to where the core really is, so segments chain exactly and no rounding error
   accumulates.
+* An arc whose sagitta is under a quarter BLU is run as its chord (a line):
+  on the lattice the two are the same within that quarter BLU.
 * Arcs: the centre is rounded to the lattice; the radius is the distance from
   the current lattice point (the core's definition); the end is the lattice
   point at the programmed end's angle that the core accepts, and the current
@@ -39,6 +41,14 @@ def _fits(v: int, width: int) -> bool:
     return -(1 << (width - 1)) < v < (1 << (width - 1)) - 1
 
 
+def _minor(m: Move) -> bool:
+    """Is the arc's sweep at most half a turn?"""
+    sx, sy = m.start[0] - m.center[0], m.start[1] - m.center[1]
+    ex, ey = m.end[0] - m.center[0], m.end[1] - m.center[1]
+    cross = sx * ey - sy * ex
+    return (cross <= 0) if m.cw else (cross >= 0)
+
+
 def quantise(moves: list[Move], blu=(DEFAULT_BLU,) * 3, width: int = 32,
              rate: float = 2.0) -> Quantised:
     if abs(blu[0] - blu[1]) > 1e-15:
@@ -52,21 +62,44 @@ def quantise(moves: list[Move], blu=(DEFAULT_BLU,) * 3, width: int = 32,
     def lat(p, k):
         return round(p / blu[k])
 
+    bx, by, bz = blu
+    lo, hi = -(1 << (width - 1)), (1 << (width - 1)) - 1
+    mask = 0xFFFFFFFF
+    line_head = enc.OP_LINE | (rate_q << 32)
     for m in moves:
-        if m.kind in ("rapid", "line"):
-            t = [lat(m.end[k], k) for k in range(3)]
-            if not all(_fits(v, width) for v in t):
+        if m.kind != "arc":
+            ex, ey, ez = m.end
+            tx, ty, tz = round(ex / bx), round(ey / by), round(ez / bz)
+            if not (lo < tx < hi and lo < ty < hi and lo < tz < hi):
                 raise GcodeError(m.lineno, f"end point outside the core's {width}-bit range at this BLU")
-            d = [t[k] - cur[k] for k in range(3)]
-            if not any(d):
+            dx, dy, dz = tx - cur[0], ty - cur[1], tz - cur[2]
+            if not (dx or dy or dz):
                 continue
-            q.cmds.append(enc.encode_line(d, rate_q))
-            q.moves_per_cmd.append(max(abs(v) for v in d))
+            # encoding.encode_line, inlined for speed (the deltas fit: checked above)
+            q.cmds.append(line_head | ((dx & mask) << 64) | ((dy & mask) << 96) | ((dz & mask) << 128))
+            q.moves_per_cmd.append(max(abs(dx), abs(dy), abs(dz)))
             q.src.append(m)
-            cur = t
+            cur = [tx, ty, tz]
             continue
         if m.plane != 17:
             raise GcodeError(m.lineno, "the core interpolates arcs in the XY plane (G17) only")
+        if m.start[:2] != m.end[:2]:
+            # an arc whose sagitta is under a quarter BLU is its chord on the
+            # lattice: run it as a line (CAM corner rounds, short joins)
+            r_mm = math.hypot(m.start[0] - m.center[0], m.start[1] - m.center[1])
+            chord = math.hypot(m.end[0] - m.start[0], m.end[1] - m.start[1])
+            half = min(chord / (2 * r_mm), 1.0) if r_mm > 0 else 1.0
+            sag = r_mm * (1 - math.sqrt(1 - half * half))
+            short = math.asin(half) * 2 <= math.pi      # the short way round
+            if short and sag < 0.25 * bx and _minor(m):
+                tx, ty = round(m.end[0] / bx), round(m.end[1] / by)
+                dx, dy = tx - cur[0], ty - cur[1]
+                if dx or dy:
+                    q.cmds.append(line_head | ((dx & mask) << 64) | ((dy & mask) << 96))
+                    q.moves_per_cmd.append(max(abs(dx), abs(dy)))
+                    q.src.append(m)
+                    cur = [tx, ty, cur[2]]
+                continue
         c = (lat(m.center[0], 0), lat(m.center[1], 1))
         if not all(_fits(v, width) for v in c):
             raise GcodeError(m.lineno, f"arc centre outside the core's {width}-bit range at this BLU")

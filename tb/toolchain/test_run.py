@@ -26,6 +26,20 @@ def test_quantised_segments_chain_exactly_on_the_lattice():
     # the last point is the programmed end rounded to the lattice, whatever the arc did
     assert q.end == (123, 0, 300)
     assert sum(q.moves_per_cmd) > 0
+    from halfpoint import encoding as enc
+    first = enc.decode(q.cmds[0])
+    assert first["opcode"] == enc.OP_LINE and first["deltas"][:3] == [1000, 2001, 0]
+    arc = enc.decode(q.cmds[1])
+    assert arc["opcode"] == enc.OP_ARC_CW and (arc["i"], arc["j"]) == (1000, 0)
+
+
+def test_arc_with_tiny_sagitta_runs_as_its_chord():
+    # R 1 mm, chord 0.02 mm: sagitta 0.05 um, under a quarter BLU
+    prog = parse("F100\nG1 X1\nG3 X0.99980 Y0.02 I-1 J0\nM2")
+    q = quantise(prog.moves, (0.001,) * 3)
+    from halfpoint import encoding as enc
+    assert [enc.decode(c)["opcode"] for c in q.cmds] == [enc.OP_LINE, enc.OP_LINE]
+    assert q.end == (1000, 20, 0)
 
 
 def test_quantise_range_and_plane_errors_name_the_line():
