@@ -21,7 +21,7 @@ import numpy as np
 
 from . import encoding as enc
 from .arc import arc_points, full_circle_stats
-from .core import CoreInputs, CoreModel
+from .core import CoreModel, run_program
 from .program import random_arc, random_line
 from .stepgen import StepCfg, StepGenModel, StepInputs
 
@@ -34,22 +34,8 @@ def run_core(cmds, rate_cfg=None, diag_weighting=True, axes=3):
     (model, move times, positions after each move)."""
     m = CoreModel(axes, 32, 16, 16, rate_cfg or [StepCfg(1, 1, 0, 0)] * axes,
                   diag_weighting=diag_weighting)
-    m.clock(CoreInputs(rst=1))
-    idx, cyc, times, trace, idle = 0, 0, [], [], 0
-    while idx < len(cmds) or idle < 4:
-        o = m.outputs()
-        if o.move:
-            times.append(cyc)
-            trace.append(o.pos)
-        inp = CoreInputs()
-        if idx < len(cmds):
-            inp = CoreInputs(tvalid=1, tdata=cmds[idx])
-            if o.tready:
-                idx += 1
-        idle = 0 if (o.busy or idx < len(cmds)) else idle + 1
-        m.clock(inp)
-        cyc += 1
-    return m, times, trace
+    run = run_program(m, cmds)
+    return m, run.times, run.trace
 
 
 def moves_per_clock(min_moves: int):

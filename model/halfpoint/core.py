@@ -312,3 +312,34 @@ class CoreModel:
         self.o_err = int(err_code != 0)
         if err_code:
             self.o_err_code = err_code
+
+
+@dataclass
+class ProgramRun:
+    times: list[int]            # clock of every move strobe
+    trace: list[tuple]          # positions after every move
+    errors: list[int]           # err_code of every rejected command
+
+
+def run_program(model: CoreModel, cmds) -> ProgramRun:
+    """Reset ``model`` and stream ``cmds`` into it back to back (the queue kept
+    as full as tready allows) until the core is idle again."""
+    model.clock(CoreInputs(rst=1))
+    run = ProgramRun([], [], [])
+    idx, cyc, idle = 0, 0, 0
+    while idx < len(cmds) or idle < 4:
+        o = model.outputs()
+        if o.move:
+            run.times.append(cyc)
+            run.trace.append(o.pos)
+        if o.err:
+            run.errors.append(o.err_code)
+        inp = CoreInputs()
+        if idx < len(cmds):
+            inp = CoreInputs(tvalid=1, tdata=cmds[idx])
+            if o.tready:
+                idx += 1
+        idle = 0 if (o.busy or idx < len(cmds)) else idle + 1
+        model.clock(inp)
+        cyc += 1
+    return run

@@ -94,26 +94,13 @@ def parse_segments(text: str) -> list[Segment]:
 
 def run_segments_model(cmds) -> list[tuple[int, ...]]:
     """Positions after every move, from the cycle-accurate core model."""
-    from .core import CoreInputs, CoreModel
+    from .core import CoreModel, run_program
     from .stepgen import StepCfg
 
-    m = CoreModel(AXES, WIDTH, 16, 16, [StepCfg(1, 0, 0, 0)] * AXES)
-    m.clock(CoreInputs(rst=1))
-    trace, idx, idle = [], 0, 0
-    while idx < len(cmds) or idle < 4:
-        o = m.outputs()
-        if o.move:
-            trace.append(o.pos)
-        if o.err:
-            raise RuntimeError(f"the core rejected a command (code {o.err_code})")
-        inp = CoreInputs()
-        if idx < len(cmds):
-            inp = CoreInputs(tvalid=1, tdata=cmds[idx])
-            if o.tready:
-                idx += 1
-        idle = 0 if (o.busy or idx < len(cmds)) else idle + 1
-        m.clock(inp)
-    return trace
+    run = run_program(CoreModel(AXES, WIDTH, 16, 16, [StepCfg(1, 0, 0, 0)] * AXES), cmds)
+    if run.errors:
+        raise RuntimeError(f"the core rejected a command (codes {run.errors})")
+    return run.trace
 
 
 def run_segments_rtl(cmds) -> list[tuple[int, ...]]:
