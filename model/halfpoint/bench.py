@@ -122,6 +122,33 @@ def comp_speed(blocks: int = 100_000):
     return len(prog.moves) / dt, len(res.skipped)
 
 
+def chord_table():
+    """Seed 002's grid: a = 0.01, 0.1, 1; b = 0; f = 0.02 .. 0.08 over x in
+    [0, 10]: mean and worst chord length for both algorithms; mean |chord - f|
+    for n = 1..10 substeps at a = 1, f = 0.08; time per step."""
+    from .chords import chord_stats, parabola_chords
+
+    rows = []
+    for a in (0.01, 0.1, 1.0):
+        for f in (0.02, 0.04, 0.06, 0.08):
+            r = {"a": a, "f": f}
+            for alg in (1, 2):
+                mean, worst, _, _ = chord_stats(parabola_chords(a, 0.0, 0.0, 10.0, f, alg), f)
+                r[f"alg{alg}_mean"], r[f"alg{alg}_worst"] = mean, worst
+            rows.append(r)
+    subs = []
+    for n in range(1, 11):
+        r = {"n": n}
+        for alg in (1, 2):
+            t0 = time.perf_counter()
+            pts = parabola_chords(1.0, 0.0, 0.0, 10.0, 0.08, alg, n)
+            dt = time.perf_counter() - t0
+            r[f"alg{alg}_mean_err"] = chord_stats(pts, 0.08)[2]
+            r[f"alg{alg}_us_per_period"] = dt / (len(pts) - 1) * 1e6
+        subs.append(r)
+    return rows, subs
+
+
 def main() -> int:
     t0 = time.time()
     radii = np.arange(1, 2049)
@@ -138,6 +165,7 @@ def main() -> int:
     step_cfg = StepCfg(1, 1, 0, 0)
     rate = max_step_rate(step_cfg)
     comp_bps, comp_skipped = comp_speed()
+    chord_rows, chord_subs = chord_table()
 
     figures = {
         "moves_per_clock": round(mpc_long, 4),
@@ -175,6 +203,7 @@ def main() -> int:
         "seed": SEED,
         "seconds": round(time.time() - t0, 1),
     }
+    out["parabola_chords"] = {"grid": chord_rows, "substeps": chord_subs}
     out.update(figures)
     path = Path("build/bench.json")
     path.parent.mkdir(parents=True, exist_ok=True)
@@ -183,6 +212,15 @@ def main() -> int:
     for k, v in figures.items():
         shown = "null" if v is None else (f"{v:.6g}" if isinstance(v, float) else str(v))
         print(f"{k:34s} {shown:>14s}  {notes.get(k, 'not measured yet')}")
+    print("\nparabola chords (seed 002), b = 0, x in [0, 10]: mean / worst chord length")
+    print(f"{'a':>5s} {'f':>5s}  {'alg 1 mean':>10s} {'worst':>9s}  {'alg 2 mean':>10s} {'worst':>9s}")
+    for r in chord_rows:
+        print(f"{r['a']:5g} {r['f']:5g}  {r['alg1_mean']:10.6f} {r['alg1_worst']:9.6f}  "
+              f"{r['alg2_mean']:10.6f} {r['alg2_worst']:9.6f}")
+    print("n substeps (a = 1, f = 0.08): mean |chord - f| and time per period")
+    for r in chord_subs:
+        print(f"  n={r['n']:2d}  alg 1 {r['alg1_mean_err']:.2e} ({r['alg1_us_per_period']:.1f} us)"
+              f"  alg 2 {r['alg2_mean_err']:.2e} ({r['alg2_us_per_period']:.1f} us)")
     print(f"wrote {path} ({out['seconds']} s)")
     return 0
 

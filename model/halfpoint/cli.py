@@ -5,6 +5,7 @@
     halfpoint segments FILE [--engine model|rtl]
     halfpoint compensate PROGRAM.ngc [--radius R] [--tools FILE] [--strict]
     halfpoint run PROGRAM.ngc [--engine model|rtl] [--plot out.png] [--trace out.csv]
+    halfpoint chords parabola --a A --b B --x0 X0 --x1 X1 --feed F --period T [--alg 1|2] [--substeps N]
     halfpoint demo [--out DIR] [--engine model|rtl|both]
 """
 
@@ -66,6 +67,19 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--plot", help="write a PNG: programmed, compensated and lattice paths")
     r.add_argument("--trace", help="write a CSV of the lattice position after every move")
 
+    ch = sub.add_parser("chords", help="time-division chords of a curve (seed 002), as G-code")
+    chs = ch.add_subparsers(dest="curve", required=True, parser_class=_Parser)
+    pa = chs.add_parser("parabola", help="y = -a x^2 + b x")
+    pa.add_argument("--a", type=float, required=True)
+    pa.add_argument("--b", type=float, required=True)
+    pa.add_argument("--x0", type=float, required=True)
+    pa.add_argument("--x1", type=float, required=True)
+    pa.add_argument("--feed", type=float, required=True, help="feed rate F in mm/min")
+    pa.add_argument("--period", type=float, required=True, help="interpolation period T in ms")
+    pa.add_argument("--alg", type=int, choices=(1, 2), default=1,
+                    help="1: tangent, 2: corrected secant")
+    pa.add_argument("--substeps", type=int, default=1, help="n substeps per period")
+
     m = sub.add_parser("demo", help="shipped arcs through model and RTL, with plots")
     m.add_argument("--out", default="build/demo", help="output directory")
     m.add_argument("--engine", choices=ENGINES + ("both",), default="both")
@@ -111,6 +125,20 @@ def cmd_run(args) -> int:
     if args.trace:
         write_trace(res, args.trace)
         print(f"trace: {args.trace}")
+    return 0
+
+
+def cmd_chords(args) -> int:
+    from .chords import chords_gcode, parabola_chords
+
+    if args.feed <= 0 or args.period <= 0:
+        raise UsageError("--feed and --period must be positive")
+    f = args.feed / 60000.0 * args.period          # mm per period
+    try:
+        pts = parabola_chords(args.a, args.b, args.x0, args.x1, f, args.alg, args.substeps)
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+    sys.stdout.write(chords_gcode(pts, args.feed))
     return 0
 
 
@@ -161,6 +189,8 @@ def main(argv=None) -> int:
             return cmd_arc(args)
         if args.cmd == "segments":
             return cmd_segments(args)
+        if args.cmd == "chords":
+            return cmd_chords(args)
         if args.cmd == "compensate":
             return cmd_compensate(args)
         if args.cmd == "run":
