@@ -149,6 +149,93 @@ def chord_table():
     return rows, subs
 
 
+def curve_comparison(tol: float = 0.01, f_td: float = 0.04, plot: str | None = "build/bench_curves.png"):
+    """Ellipse 50 x 30, second quadrant: tri-arcs at ``tol`` vs. a polyline
+    whose chords stay within ``tol`` vs. time-division chords of path length
+    ``f_td`` (600 mm/min at a 4 ms period): segments and maximum deviation."""
+    from . import triarc
+
+    a, b = 50.0, 30.0
+    curve = triarc.ellipse(a, b, math.pi / 2, math.pi)
+    t0 = time.perf_counter()
+    arcs, groups = triarc.fit(curve, tol)
+    t_fit = time.perf_counter() - t0
+    dev_arcs, _ = triarc.verify(curve, arcs, tol)
+
+    dense_t = np.linspace(curve.t0, curve.t1, 200001)
+    dense = np.stack([a * np.cos(dense_t), b * np.sin(dense_t)], axis=1)
+    seg_len = np.hypot(*np.diff(dense, axis=0).T)
+    s_cum = np.concatenate([[0.0], np.cumsum(seg_len)])
+
+    def poly_dev(idx):
+        worst = 0.0
+        for i, j in zip(idx, idx[1:]):
+            p, q = dense[i], dense[j]
+            d = q - p
+            n = np.hypot(*d)
+            pts = dense[i:j + 1]
+            dist = np.abs(d[0] * (pts[:, 1] - p[1]) - d[1] * (pts[:, 0] - p[0])) / n
+            worst = max(worst, float(dist.max()))
+        return worst
+
+    # polyline: greedy longest chords within tol
+    idx, i = [0], 0
+    n = len(dense) - 1
+    while i < n:
+        lo, hi = i + 1, n
+        while lo < hi:
+            mid = (lo + hi + 1) // 2
+            if poly_dev([i, mid]) <= tol:
+                lo = mid
+            else:
+                hi = mid - 1
+        idx.append(lo)
+        i = lo
+    dev_poly = poly_dev(idx)
+    # time-division: equal path length per period
+    marks = np.arange(0.0, s_cum[-1], f_td)
+    td_idx = sorted(set(np.searchsorted(s_cum, marks).tolist() + [n]))
+    dev_td = poly_dev(td_idx)
+    res = {
+        "tolerance_mm": tol, "timediv_chord_mm": f_td,
+        "triarc": {"segments": len(arcs), "groups": len(groups), "max_dev_mm": dev_arcs, "fit_s": t_fit},
+        "polyline": {"segments": len(idx) - 1, "max_dev_mm": dev_poly},
+        "timediv": {"segments": len(td_idx) - 1, "max_dev_mm": dev_td},
+    }
+    if plot:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        fig, axes = plt.subplots(1, 2, figsize=(11, 4.8))
+        ax = axes[0]
+        ax.plot(dense[:, 0], dense[:, 1], color="0.6", lw=3, label="ellipse 50 x 30, Q2")
+        for k, arc in enumerate(arcs):
+            p = arc.points(64)
+            ax.plot(p[:, 0], p[:, 1], lw=1.4, color=f"C{k % 10}")
+            ax.plot(*arc.start, "k.", ms=4)
+        ax.set_aspect("equal")
+        ax.set_title(f"tri-arc fit: {len(groups)} groups, {len(arcs)} arcs")
+        ax.legend(fontsize=8)
+        ax = axes[1]
+        names = ["tri-arcs", f"polyline (<= {tol} mm)", f"time-division (f = {f_td} mm)"]
+        segs = [len(arcs), len(idx) - 1, len(td_idx) - 1]
+        devs = [dev_arcs * 1000, dev_poly * 1000, dev_td * 1000]
+        bars = ax.bar(names, segs, color=["C0", "C1", "C2"])
+        for bar, d in zip(bars, devs):
+            ax.annotate(f"max dev {d:.2f} um", (bar.get_x() + bar.get_width() / 2, bar.get_height()),
+                        ha="center", va="bottom", fontsize=8)
+        ax.set_yscale("log")
+        ax.set_ylabel("segments")
+        ax.set_title("segments for the same quadrant")
+        fig.tight_layout()
+        Path(plot).parent.mkdir(parents=True, exist_ok=True)
+        fig.savefig(plot, dpi=110)
+        plt.close(fig)
+    return res
+
+
 def main() -> int:
     t0 = time.time()
     radii = np.arange(1, 2049)
@@ -166,6 +253,7 @@ def main() -> int:
     rate = max_step_rate(step_cfg)
     comp_bps, comp_skipped = comp_speed()
     chord_rows, chord_subs = chord_table()
+    curves = curve_comparison()
 
     figures = {
         "moves_per_clock": round(mpc_long, 4),
@@ -204,6 +292,7 @@ def main() -> int:
         "seconds": round(time.time() - t0, 1),
     }
     out["parabola_chords"] = {"grid": chord_rows, "substeps": chord_subs}
+    out["ellipse_curves"] = curves
     out.update(figures)
     path = Path("build/bench.json")
     path.parent.mkdir(parents=True, exist_ok=True)
@@ -221,6 +310,10 @@ def main() -> int:
     for r in chord_subs:
         print(f"  n={r['n']:2d}  alg 1 {r['alg1_mean_err']:.2e} ({r['alg1_us_per_period']:.1f} us)"
               f"  alg 2 {r['alg2_mean_err']:.2e} ({r['alg2_us_per_period']:.1f} us)")
+    c = curves
+    print(f"\nellipse 50 x 30, second quadrant, tolerance {c['tolerance_mm']} mm (plot build/bench_curves.png):")
+    for key, label in (("triarc", "tri-arcs"), ("polyline", "polyline"), ("timediv", "time-division chords")):
+        print(f"  {label:22s} {c[key]['segments']:6d} segments, max deviation {c[key]['max_dev_mm'] * 1000:.2f} um")
     print(f"wrote {path} ({out['seconds']} s)")
     return 0
 

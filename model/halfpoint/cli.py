@@ -5,6 +5,7 @@
     halfpoint segments FILE [--engine model|rtl]
     halfpoint compensate PROGRAM.ngc [--radius R] [--tools FILE] [--strict]
     halfpoint run PROGRAM.ngc [--engine model|rtl] [--plot out.png] [--trace out.csv]
+    halfpoint fit ellipse --a A --b B --tol T [--quadrant 1|2|3|4 | --full]  (parabola, hyperbola)
     halfpoint chords parabola --a A --b B --x0 X0 --x1 X1 --feed F --period T [--alg 1|2] [--substeps N]
     halfpoint demo [--out DIR] [--engine model|rtl|both]
 """
@@ -80,6 +81,29 @@ def build_parser() -> argparse.ArgumentParser:
                     help="1: tangent, 2: corrected secant")
     pa.add_argument("--substeps", type=int, default=1, help="n substeps per period")
 
+    ft = sub.add_parser("fit", help="tri-arc fit of a curve (seed 003), as G-code arcs")
+    fts = ft.add_subparsers(dest="curve", required=True, parser_class=_Parser)
+    fe = fts.add_parser("ellipse", help="x = A cos t, y = B sin t")
+    fe.add_argument("--a", type=float, required=True)
+    fe.add_argument("--b", type=float, required=True)
+    q = fe.add_mutually_exclusive_group()
+    q.add_argument("--quadrant", type=int, choices=(1, 2, 3, 4), default=None)
+    q.add_argument("--full", action="store_true")
+    fp = fts.add_parser("parabola", help="y = A x^2 + B x + C over [X0, X1]")
+    fp.add_argument("--a", type=float, required=True)
+    fp.add_argument("--b", type=float, default=0.0)
+    fp.add_argument("--c", type=float, default=0.0)
+    fp.add_argument("--x0", type=float, required=True)
+    fp.add_argument("--x1", type=float, required=True)
+    fh = fts.add_parser("hyperbola", help="x = A cosh t, y = B sinh t over [T0, T1]")
+    fh.add_argument("--a", type=float, required=True)
+    fh.add_argument("--b", type=float, required=True)
+    fh.add_argument("--t0", type=float, required=True)
+    fh.add_argument("--t1", type=float, required=True)
+    for sp in (fe, fp, fh):
+        sp.add_argument("--tol", type=float, required=True, help="tolerance in mm")
+        sp.add_argument("--feed", type=float, default=600.0, help="F word in mm/min")
+
     m = sub.add_parser("demo", help="shipped arcs through model and RTL, with plots")
     m.add_argument("--out", default="build/demo", help="output directory")
     m.add_argument("--engine", choices=ENGINES + ("both",), default="both")
@@ -125,6 +149,40 @@ def cmd_run(args) -> int:
     if args.trace:
         write_trace(res, args.trace)
         print(f"trace: {args.trace}")
+    return 0
+
+
+def cmd_fit(args) -> int:
+    import math
+
+    from . import triarc
+
+    if args.tol <= 0:
+        raise UsageError("--tol must be positive")
+    if args.curve == "ellipse":
+        if args.a <= 0 or args.b <= 0:
+            raise UsageError("--a and --b must be positive")
+        if args.full:
+            t0, t1 = 0.0, 2 * math.pi
+        else:
+            k = (args.quadrant or 1) - 1
+            t0, t1 = k * math.pi / 2, (k + 1) * math.pi / 2
+        curve = triarc.ellipse(args.a, args.b, t0, t1)
+    elif args.curve == "parabola":
+        if args.a == 0 or args.x0 == args.x1:
+            raise UsageError("a parabola needs --a non-zero and --x0 different from --x1")
+        curve = triarc.parabola(args.a, args.b, args.c, args.x0, args.x1)
+    else:
+        if args.a <= 0 or args.b <= 0 or args.t0 == args.t1:
+            raise UsageError("a hyperbola needs positive --a, --b and --t0 different from --t1")
+        curve = triarc.hyperbola(args.a, args.b, args.t0, args.t1)
+    arcs, groups = triarc.fit(curve, args.tol)
+    dev, tang = triarc.verify(curve, arcs, args.tol)
+    if dev > args.tol:
+        raise UsageError(f"fit exceeds the tolerance: {dev:.3g} mm")
+    print(f"halfpoint: {len(groups)} groups, {len(arcs)} arcs, max deviation {dev:.4g} mm, "
+          f"tangent jump {tang:.1e} rad", file=sys.stderr)
+    sys.stdout.write(triarc.to_gcode(arcs, args.feed))
     return 0
 
 
@@ -189,6 +247,8 @@ def main(argv=None) -> int:
             return cmd_arc(args)
         if args.cmd == "segments":
             return cmd_segments(args)
+        if args.cmd == "fit":
+            return cmd_fit(args)
         if args.cmd == "chords":
             return cmd_chords(args)
         if args.cmd == "compensate":
