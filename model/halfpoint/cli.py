@@ -64,9 +64,11 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("program", help="G-code program (LinuxCNC dialect subset)")
     _comp_args(r)
     r.add_argument("--engine", choices=ENGINES, default="model")
-    r.add_argument("--blu", type=float, default=0.001, help="BLU in mm, all axes (default 0.001)")
+    r.add_argument("--blu", type=float, default=0.001, help="BLU of X and Y in mm (default 0.001)")
+    r.add_argument("--blu-z", type=float, help="BLU of Z in mm (default: the same as --blu)")
     r.add_argument("--plot", help="write a PNG: programmed, compensated and lattice paths")
     r.add_argument("--trace", help="write a CSV of the lattice position after every move")
+    r.add_argument("--zoom", help="plot window XMIN,XMAX,YMIN,YMAX in mm")
 
     ch = sub.add_parser("chords", help="time-division chords of a curve (seed 002), as G-code")
     chs = ch.add_subparsers(dest="curve", required=True, parser_class=_Parser)
@@ -132,19 +134,28 @@ def cmd_compensate(args) -> int:
 def cmd_run(args) -> int:
     from .run import plot_run, print_warnings, run_program, write_trace
 
-    if args.blu <= 0:
-        raise UsageError("--blu must be positive")
+    blu_z = args.blu if args.blu_z is None else args.blu_z
+    if args.blu <= 0 or blu_z <= 0:
+        raise UsageError("--blu and --blu-z must be positive")
     res = run_program(args.program, args.engine, args.radius, args.tools, args.strict,
-                      (args.blu,) * 3, args.window)
+                      (args.blu, args.blu, blu_z), args.window)
     print_warnings(args.program, res.warnings)
     print(f"blocks: {len(res.programmed)} programmed, {len(res.compensated)} after compensation")
     print(f"lattice moves: {len(res.lattice)} (engine: {args.engine}, BLU {args.blu:g} mm)")
     end = res.lattice[-1] if res.lattice else (0, 0, 0)
-    print(f"final position: {', '.join(f'{v * args.blu:.4f}' for v in end)} mm")
+    print(f"final position: {', '.join(f'{v * b:.4f}' for v, b in zip(end, res.blu))} mm")
     print(f"max deviation of the lattice path from the compensated path: "
           f"{res.max_dev_mm:.6f} mm ({res.max_dev_mm / args.blu:.3f} BLU)")
+    zoom = None
+    if args.zoom:
+        try:
+            zoom = [float(v) for v in args.zoom.split(",")]
+        except ValueError:
+            zoom = []
+        if len(zoom) != 4:
+            raise UsageError("--zoom needs XMIN,XMAX,YMIN,YMAX")
     if args.plot:
-        plot_run(res, args.plot, f"{args.program} ({args.engine})")
+        plot_run(res, args.plot, f"{args.program} ({args.engine})", zoom)
         print(f"plot: {args.plot}")
     if args.trace:
         write_trace(res, args.trace)

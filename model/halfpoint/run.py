@@ -83,7 +83,7 @@ def _path_points(moves: list[Move], steps=64):
     return xs, ys
 
 
-def plot_run(res: RunResult, out: str, title: str) -> None:
+def plot_run(res: RunResult, out: str, title: str, zoom=None) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -99,6 +99,9 @@ def plot_run(res: RunResult, out: str, title: str) -> None:
     cx, cy = _path_points([m for m in res.compensated if m.kind != "rapid"])
     ax.plot(cx, cy, "-", color="C3", lw=0.8, label="compensated tool path")
     ax.set_aspect("equal")
+    if zoom:
+        ax.set_xlim(zoom[0], zoom[1])
+        ax.set_ylim(zoom[2], zoom[3])
     ax.grid(True, lw=0.3)
     ax.legend(loc="best", fontsize=8)
     ax.set_title(title, fontsize=10)
