@@ -22,7 +22,8 @@ seed's z1(D) = deviation - tolerance, which starts at -tolerance and grows
 as D moves on; C is found from B the same way (z2) with circle_B + arc 3.
 Consecutive groups share the node and the curve's normal there, so the whole
 chain is tangent-continuous.  A piece that runs out gives a shorter last
-group.  Curves are split at curvature extrema and inflection points first.
+group.  Curves are split at curvature extrema, inflection points and
+curvature discontinuities first.
 """
 
 from __future__ import annotations
@@ -193,7 +194,8 @@ def _furthest(curve, t_from, t_end, tol, build):
 
 
 def split_points(curve: Curve, n: int = 4000) -> list[float]:
-    """Parameters of curvature extrema and inflections inside (t0, t1)."""
+    """Parameters of curvature extrema, inflections and curvature
+    discontinuities inside (t0, t1)."""
     ts = np.linspace(curve.t0, curve.t1, n)
     k = np.array([curve.curvature(t) for t in ts])
     cuts = []
@@ -208,6 +210,25 @@ def split_points(curve: Curve, n: int = 4000) -> list[float]:
                 else:
                     hi = mid
             cuts.append(0.5 * (lo + hi))
+    # curvature discontinuities: a jump far larger than the steps around it,
+    # narrowed down by bisection (a real jump stays as the interval shrinks)
+    dk = np.abs(np.diff(k))
+    scale = float(np.abs(k).max()) or 1.0
+    for i in range(1, n):
+        around = np.concatenate([dk[max(0, i - 9):i - 1], dk[i:i + 8]])
+        typical = float(np.median(around)) if len(around) else 0.0
+        if dk[i - 1] > 50 * typical + 1e-6 * scale:
+            lo, hi = ts[i - 1], ts[i]
+            for _ in range(60):
+                mid = 0.5 * (lo + hi)
+                km = curve.curvature(mid)
+                if abs(km - curve.curvature(lo)) > abs(curve.curvature(hi) - km):
+                    hi = mid
+                else:
+                    lo = mid
+            t_jump = 0.5 * (lo + hi)
+            if not any(abs(t_jump - c) < 2 * (ts[1] - ts[0]) for c in cuts):
+                cuts.append(t_jump)
     # extrema of |k|: sign changes of its slope (flat steps carry the last sign)
     ak = np.abs(k)
     last, last_i = 0, 0

@@ -65,3 +65,17 @@ def test_fitted_ellipse_runs_end_to_end(tmp_path, engine):
     x, y, _ = (float(v) for v in final.split(":")[1].replace("mm", "").split(","))
     # the closed chain comes back to its start within the arc unit's 1 BLU per axis
     assert abs(x - 8.0) <= 0.002 + 1e-9 and abs(y) <= 0.002 + 1e-9
+
+
+def test_curvature_discontinuity_is_a_split_point():
+    """Two parabolas joined with equal value and slope but a jump in f'' at
+    x = 0: split at the jump (and at the left parabola's vertex, x = -5)."""
+    f = lambda x: 0.01 * (x + 5) ** 2 if x < 0 else 0.25 + 0.1 * x + 0.03 * x * x   # noqa: E731
+    df = lambda x: 0.02 * (x + 5) if x < 0 else 0.1 + 0.06 * x                       # noqa: E731
+    d2 = lambda x: 0.02 if x < 0 else 0.06                                            # noqa: E731
+    curve = triarc.explicit(f, df, d2, -20, 15)
+    cuts = triarc.split_points(curve)
+    assert len(cuts) == 2 and abs(cuts[0] + 5) < 1e-2 and abs(cuts[1]) < 1e-9
+    arcs, _ = triarc.fit(curve, 0.01)
+    dev, tangent = triarc.verify(curve, arcs, 0.01)
+    assert dev <= 0.01 * (1 + 1e-6) and tangent < 1e-9
