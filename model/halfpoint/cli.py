@@ -254,22 +254,13 @@ def main(argv=None) -> int:
     parser = build_parser()
     try:
         args = parser.parse_args(argv)
-        if args.cmd == "arc":
-            return cmd_arc(args)
-        if args.cmd == "segments":
-            return cmd_segments(args)
-        if args.cmd == "fit":
-            return cmd_fit(args)
-        if args.cmd == "chords":
-            return cmd_chords(args)
-        if args.cmd == "compensate":
-            return cmd_compensate(args)
-        if args.cmd == "run":
-            return cmd_run(args)
         if args.cmd == "demo":
             from .demo import run_demo
 
             return run_demo(args.out, args.engine)
+        handlers = {"arc": cmd_arc, "segments": cmd_segments, "fit": cmd_fit, "chords": cmd_chords,
+                    "compensate": cmd_compensate, "run": cmd_run}
+        return handlers[args.cmd](args)
     except UsageError as exc:
         print(f"halfpoint: {exc}", file=sys.stderr)
         return 2
@@ -282,7 +273,6 @@ def main(argv=None) -> int:
     except OSError as exc:
         print(f"halfpoint: cannot read {exc.filename}: {exc.strerror}", file=sys.stderr)
         return 2
-    return 1
 
 
 if __name__ == "__main__":

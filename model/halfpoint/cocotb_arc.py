@@ -38,12 +38,8 @@ class ArcBench(UnitBench):
         )
 
     def drive(self, i: ArcInputs) -> None:
+        self.drive_control(i)
         d = self.dut
-        d.rst.value = i.rst
-        d.en.value = i.en
-        d.start_en.value = i.start_en
-        d.abort_now.value = i.abort
-        d.s_valid.value = i.s_valid
         d.s_cw.value = i.s_cw
         for name in ("s_xs", "s_ys", "s_xe", "s_ye"):
             getattr(d, name).value = getattr(i, name) & self.mask

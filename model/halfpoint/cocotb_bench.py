@@ -77,6 +77,15 @@ class UnitBench(ABC):
         """What to record for a move shown in ``got``."""
 
     # -- common --------------------------------------------------------
+    def drive_control(self, i) -> None:
+        """The control inputs every unit has: rst, en, start_en, abort_now, s_valid."""
+        d = self.dut
+        d.rst.value = i.rst
+        d.en.value = i.en
+        d.start_en.value = i.start_en
+        d.abort_now.value = i.abort
+        d.s_valid.value = i.s_valid
+
     def _read(self) -> dict:
         out = {}
         for name in self.FIELDS:

@@ -34,12 +34,8 @@ class LineBench(UnitBench):
         return LineInputs(s_valid=0, s_delta=junk, **kw)
 
     def drive(self, i: LineInputs) -> None:
+        self.drive_control(i)
         d = self.dut
-        d.rst.value = i.rst
-        d.en.value = i.en
-        d.start_en.value = i.start_en
-        d.abort_now.value = i.abort
-        d.s_valid.value = i.s_valid
         d.s_delta.value = self._pack(i.s_delta)
 
     def move_record(self, got):
