@@ -264,29 +264,35 @@ module halfpoint_core #(
     wire          steps_ready = &(~nx_step | (nx_dir & rdy_pos) | (~nx_dir & rdy_neg));
 
     reg  [34:0]   credit_q;
-    reg  [8:0]    ov_q;
+    // override accumulator a (0..99, the model's ov_acc) kept as the two
+    // thresholds 100 - a and 200 - a, so that k needs compares, not an add
+    reg  [8:0]    th1_q, th2_q;
     wire          diag     = arc_run && arc_nx_diag;
     wire          ok_axis  = (credit_q >= COST_AXIS);
     wire          ok_diag  = (credit_q >= COST_DIAG);
     assign go = (arc_run || line_run) && steps_ready && (diag ? ok_diag : ok_axis) && !abort_now;
 
     wire [8:0]  ov_eff = (feed_override > 8'd200) ? 9'd200 : {1'b0, feed_override};
-    wire [8:0]  ov_sum = ov_q + ov_eff;
-    wire [1:0]  ov_k   = (ov_sum >= 9'd200) ? 2'd2 : (ov_sum >= 9'd100) ? 2'd1 : 2'd0;
+    wire [1:0]  ov_k   = (ov_eff >= th2_q) ? 2'd2 : (ov_eff >= th1_q) ? 2'd1 : 2'd0;
+    wire [8:0]  ov_back = (ov_k == 2'd2) ? 9'd200 : (ov_k == 2'd1) ? 9'd100 : 9'd0;
     wire [31:0] rate   = arc_run ? arc_rate_a : line_run ? line_rate_a : 32'd0;
     wire [34:0] inc    = (ov_k == 2'd2) ? {2'b00, rate, 1'b0} : (ov_k == 2'd1) ? {3'b000, rate} : 35'd0;
     wire [34:0] spend  = go ? (diag ? COST_DIAG : COST_AXIS) : 35'd0;
     wire [34:0] credit_n = credit_q + inc - spend;
+    // credit_n > CREDIT_CAP (= 2^26; credit_n is never negative), as a LUT tree
+    wire        over_cap = (|credit_n[34:27]) || (credit_n[26] && (|credit_n[25:0]));
 
     always @(posedge clk) begin
         if (rst) begin
             credit_q <= 35'd0;
-            ov_q     <= 9'd0;
+            th1_q    <= 9'd100;
+            th2_q    <= 9'd200;
         end else if (abort_now) begin
             credit_q <= 35'd0;
         end else begin
-            credit_q <= (credit_n > CREDIT_CAP) ? CREDIT_CAP : credit_n;
-            ov_q     <= ov_sum - ((ov_k == 2'd2) ? 9'd200 : (ov_k == 2'd1) ? 9'd100 : 9'd0);
+            credit_q <= over_cap ? CREDIT_CAP : credit_n;
+            th1_q    <= th1_q - ov_eff + ov_back;
+            th2_q    <= th2_q - ov_eff + ov_back;
         end
     end
 

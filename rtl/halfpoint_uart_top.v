@@ -170,6 +170,7 @@ module halfpoint_uart_top #(
     // ----------------------------------------------------------------- status
     reg       err_seen_q;
     reg [3:0] level_q;
+    wire [31:0] level32 = {{(31 - $clog2(DEPTH)){1'b0}}, level};
     always @(posedge clk) begin
         if (rst_q) begin
             err_seen_q <= 1'b0;
@@ -178,7 +179,7 @@ module halfpoint_uart_top #(
             if (err) begin
                 err_seen_q <= 1'b1;
             end
-            level_q <= (level > 15) ? 4'd15 : level[3:0];
+            level_q <= (level32 > 32'd15) ? 4'd15 : level32[3:0];
         end
     end
 

@@ -19,7 +19,7 @@ TARGETS = {
     "halfpoint_stepgen": [{"TW": 2}, {"TW": 16}],
     "halfpoint_refloop": [{"WR": 34, "FOLD": 0}, {"WR": 34, "FOLD": 1}],
     "halfpoint_uart_cmd": [{"CLK_HZ": 12000000, "BAUD": 115200}, {"CLK_HZ": 1000000, "BAUD": 125000, "IDLE_BITS": 12}],
-    "halfpoint_uart_top": [{"CLK_HZ": 12000000}, {"CLK_HZ": 25000000, "BTN_ACTIVE_LOW": 1, "NA": 2, "W": 16, "DEPTH": 8}],
+    "halfpoint_uart_top": [{"CLK_HZ": 12000000}, {"CLK_HZ": 1000000, "BAUD": 125000, "DEPTH": 2}, {"CLK_HZ": 25000000, "BTN_ACTIVE_LOW": 1, "NA": 2, "W": 16, "DEPTH": 8}],
     "halfpoint_core": [{"NA": 3, "W": 32}, {"NA": 2, "W": 16, "DEPTH": 2}, {"NA": 6, "W": 24, "DEPTH": 4}],
 }
 
