@@ -3,6 +3,9 @@
 #   make test    lint + model tests + cocotb/Verilator tests (what CI runs)
 #   make demo    shipped arcs through the model and the RTL, plot in build/demo/
 #   make bench   performance figures, table + build/bench.json
+#   make synth   Yosys + nextpnr: area and Fmax table, build/synth/report.json,
+#                and the example board tops (build/synth/boards.json, bitstreams)
+#   make boards  the example board tops alone
 #   make lint    verilator --lint-only -Wall on rtl/
 #   make clean   remove build/ (keeps .venv/)
 
@@ -12,7 +15,9 @@ VPY     := $(VENV)/bin/python
 STAMP   := $(VENV)/.setup-done
 JOBS    ?= 2
 
-.PHONY: setup test lint demo bench clean distclean
+.PHONY: setup test lint demo bench synth boards clean distclean
+
+SEEDS   ?= 3
 
 setup: $(STAMP)
 
@@ -35,6 +40,12 @@ demo: setup
 
 bench: setup
 	$(VPY) -m halfpoint.bench
+
+synth: setup
+	$(VPY) -m halfpoint.synth --seeds $(SEEDS) --jobs $(JOBS)
+
+boards: setup
+	$(VPY) -m halfpoint.synth --boards-only --jobs $(JOBS)
 
 clean:
 	rm -rf build

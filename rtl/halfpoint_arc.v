@@ -150,7 +150,8 @@ module halfpoint_arc #(
     reg  [W-1:0]  a_xs_q, a_ys_q, a_xe_q, a_ye_q;   // magnitudes
     reg  [PW-1:0] sq_xs_q, sq_ys_q, sq_xe_q, sq_ye_q;
     reg  [PW:0]   s2_q, e2_q;                        // R^2 and |E|^2
-    reg  signed [PW+1:0] fe_q;                       // |E|^2 - R^2
+    reg  signed [PW+1:0] fe_q, nfe_q;                // |E|^2 - R^2 and R^2 - |E|^2
+    reg  [W:0]    tol_q;                             // 2 max(|xs|, |ys|)
     reg           zero_q, range_q;
 
     // pending command, in run-stage form
@@ -183,9 +184,8 @@ module halfpoint_arc #(
     endfunction
 
     // DEC-stage combinational checks and frames
-    wire [W-1:0]   tol_m   = (a_xs_q > a_ys_q) ? a_xs_q : a_ys_q;
-    wire signed [PW+1:0] tol = $signed({{(PW-W+1){1'b0}}, tol_m, 1'b0});
-    wire           end_off = (fe_q > tol) || (fe_q < -tol);
+    wire signed [PW+1:0] tol = $signed({{(PW-W+1){1'b0}}, tol_q});
+    wire           end_off = (fe_q > tol) || (nfe_q > tol);
     wire [1:0]     dec_err = zero_q ? 2'd1 : range_q ? 2'd2 : end_off ? 2'd3 : 2'd0;
     wire [1:0]     dec_qs    = quad(c_cw_q, c_xs_q, c_ys_q);
     wire [1:0]     dec_qe    = quad(c_cw_q, c_xe_q, c_ye_q);
@@ -247,9 +247,11 @@ module halfpoint_arc #(
         if (vstate_q == V_SUM) begin
             s2_q <= {1'b0, sq_xs_q} + {1'b0, sq_ys_q};
             e2_q <= {1'b0, sq_xe_q} + {1'b0, sq_ye_q};
+            tol_q <= {((a_xs_q > a_ys_q) ? a_xs_q : a_ys_q), 1'b0};
         end
         if (vstate_q == V_CHK) begin
             fe_q    <= $signed({1'b0, e2_q}) - $signed({1'b0, s2_q});
+            nfe_q   <= $signed({1'b0, s2_q}) - $signed({1'b0, e2_q});
             zero_q  <= (s2_q == {(PW+1){1'b0}});
             range_q <= ({1'b0, s2_q} > R2_MAX);
         end
@@ -290,10 +292,21 @@ module halfpoint_arc #(
     // ------------------------------------------------------------------
     reg           run_q, cw_q, armed_q, oct1_q, ve0_q;
     reg  [1:0]    q_q, qe_q;
-    reg  [W-1:0]  u_q, v_q, ue_q, ve_q, ue1_q, uem1_q, vem1_q;
+    reg  [W-1:0]  u_q, v_q, ue1_q;
     reg  [W-1:0]  px_q, py_q;                        // current point
     reg  [DW-1:0] d1_q, d2_q, f_q;
     reg  [DW-1:0] p1_q, p2_q, p3_q, p4_q, p5_q, q1_q, q2_q, q4_q, g1_q, g2_q, g3_q;
+    // end-point constants beyond ue + 1, ue - 1, ve - 1 (for the look-ahead)
+    reg  [W-1:0]  ue2_q, uem2_q, vem2_q;
+    reg           ve1_q, ue0_q, ueone_q;
+    // comparison flags of the current (u, v) with the end point, kept one
+    // clock ahead (look-ahead): each register equals the comparison its name
+    // states for the current u_q, v_q, so that no comparator sits between
+    // the decision and the end detection (see "end detection" below)
+    reg           u_one_q;                           // u == 1
+    reg           f_v_gt_ve, f_v_eq_ve, f_v1_eq_ve;  // v > ve, v == ve, !ve0 && v + 1 == ve
+    reg           f_u_lt_ue, f_u_eq_ue, f_u_eq_ue1;  // u < ue, u == ue, u == ue + 1
+    reg           f_v_lt_ue, f_v_eq_ue, f_v1_eq_ue;  // v < ue, v == ue, v + 1 == ue
 
     // decision: sign bits -> move
     wire mv_b  = !d1_q[DW-1];
@@ -301,8 +314,7 @@ module halfpoint_arc #(
     wire mv_c  = d1_q[DW-1] && d2_q[DW-1];
     wire dec_u = mv_b || mv_a;                       // u shrinks
     wire inc_v = mv_a || mv_c;                       // v grows
-    wire u_one = (u_q == {{(W-1){1'b0}}, 1'b1});
-    wire xing = u_one && dec_u;                     // u reaches 0: next quadrant
+    wire xing = u_one_q && dec_u;                   // u reaches 0: next quadrant
 
     wire ce    = run_q && en && !abort_now;
 
@@ -350,20 +362,47 @@ module halfpoint_arc #(
     wire [W-1:0] px_n = stx ? (dirx ? px_q + ONE_W : px_q - ONE_W) : px_q;
     wire [W-1:0] py_n = sty ? (diry ? py_q + ONE_W : py_q - ONE_W) : py_q;
 
-    // end detection for the point after this move (progress order of E)
-    wire v_gt_ve  = (v_q > ve_q);
-    wire v_eq_ve  = (v_q == ve_q);
-    wire v1_eq_ve = !ve0_q && (v_q == vem1_q);
+    // end detection for the point after this move (progress order of E),
+    // from the registered comparison flags
+    wire v_gt_ve  = f_v_gt_ve;
+    wire v_eq_ve  = f_v_eq_ve;
+    wire v1_eq_ve = f_v1_eq_ve;
     wire v_ge_ve  = v_gt_ve || v_eq_ve;
     wire v1_ge_ve = v_ge_ve || v1_eq_ve;             // v + 1 >= ve
-    wire u_lt_ue  = (u_q < ue_q);
-    wire u_eq_ue  = (u_q == ue_q);
-    wire u_eq_ue1 = (u_q == ue1_q);
+    wire u_lt_ue  = f_u_lt_ue;
+    wire u_eq_ue  = f_u_eq_ue;
+    wire u_eq_ue1 = f_u_eq_ue1;
     wire u_le_ue  = u_lt_ue || u_eq_ue;
     wire u_le_ue1 = u_le_ue || u_eq_ue1;
-    wire v_lt_ue  = (v_q < ue_q);
-    wire v_eq_ue  = (v_q == ue_q);
-    wire v1_eq_ue = (v_q == uem1_q);                 // v + 1 == ue
+    wire v_lt_ue  = f_v_lt_ue;
+    wire v_eq_ue  = f_v_eq_ue;
+    wire v1_eq_ue = f_v1_eq_ue;                      // v + 1 == ue
+
+    // look-ahead: the flags for the point after this move, from the flags of
+    // this point, the move, and equality tests of this point with constants
+    // (they end at the flag registers, not in the enable path)
+    wire c_v_eq_vem2 = (v_q == vem2_q);              // v + 2 == ve
+    wire c_v_eq_uem2 = (v_q == uem2_q);              // v + 2 == ue
+    wire c_u_eq_ue2  = (u_q == ue2_q);               // u == ue + 2
+    wire c_v_eq_ue1  = (v_q == ue1_q);               // v == ue + 1
+    wire c_u_eq_2    = (u_q == {{(W-2){1'b0}}, 2'd2});
+    wire c_v_eq_1    = (v_q == ONE_W);
+    wire c_v_eq_0    = (v_q == {W{1'b0}});
+    // on a crossing u' = v + (A ? 1 : 0) and v' = 0
+    wire n_v_gt_ve  = xing ? 1'b0    : inc_v ? (v_gt_ve || v_eq_ve) : v_gt_ve;
+    wire n_v_eq_ve  = xing ? ve0_q   : inc_v ? v1_eq_ve : v_eq_ve;
+    wire n_v1_eq_ve = xing ? ve1_q   : inc_v ? (!ve0_q && c_v_eq_vem2) : v1_eq_ve;
+    wire n_u_lt_ue  = xing ? (mv_a ? (v_lt_ue && !v1_eq_ue) : v_lt_ue)
+                           : dec_u ? (u_lt_ue || u_eq_ue) : u_lt_ue;
+    wire n_u_eq_ue  = xing ? (mv_a ? v1_eq_ue : v_eq_ue)
+                           : dec_u ? u_eq_ue1 : u_eq_ue;
+    wire n_u_eq_ue1 = xing ? (mv_a ? v_eq_ue : c_v_eq_ue1)
+                           : dec_u ? c_u_eq_ue2 : u_eq_ue1;
+    wire n_v_lt_ue  = xing ? !ue0_q  : inc_v ? (v_lt_ue && !v1_eq_ue) : v_lt_ue;
+    wire n_v_eq_ue  = xing ? ue0_q   : inc_v ? v1_eq_ue : v_eq_ue;
+    wire n_v1_eq_ue = xing ? ueone_q : inc_v ? c_v_eq_uem2 : v1_eq_ue;
+    wire n_u_one    = xing ? (mv_a ? c_v_eq_0 : c_v_eq_1)
+                           : dec_u ? c_u_eq_2 : u_one_q;
 
     reg  past_same;   // next point (same quadrant) is at or past E
     always @(*) begin
@@ -407,9 +446,21 @@ module halfpoint_arc #(
     always @(posedge clk) begin
         if (load) begin
             cw_q <= c_cw_q;  q_q <= p_q_q;  qe_q <= p_qe_q;
-            u_q  <= p_u_q;   v_q <= p_v_q;  ue_q <= p_ue_q;  ve_q <= p_ve_q;
-            ue1_q <= p_ue1_q; uem1_q <= p_uem1_q; vem1_q <= p_vem1_q; ve0_q <= p_ve0_q;
+            u_q  <= p_u_q;   v_q <= p_v_q;
+            ue1_q <= p_ue1_q; ve0_q <= p_ve0_q;
             oct1_q <= p_oct1_q; armed_q <= p_armed_q;
+            ue2_q  <= p_ue1_q + ONE_W;  uem2_q <= p_uem1_q - ONE_W;  vem2_q <= p_vem1_q - ONE_W;
+            ve1_q  <= (p_ve_q == ONE_W);  ue0_q <= (p_ue_q == {W{1'b0}});  ueone_q <= (p_ue_q == ONE_W);
+            u_one_q    <= (p_u_q == ONE_W);
+            f_v_gt_ve  <= (p_v_q > p_ve_q);
+            f_v_eq_ve  <= (p_v_q == p_ve_q);
+            f_v1_eq_ve <= !p_ve0_q && (p_v_q == p_vem1_q);
+            f_u_lt_ue  <= (p_u_q < p_ue_q);
+            f_u_eq_ue  <= (p_u_q == p_ue_q);
+            f_u_eq_ue1 <= (p_u_q == p_ue1_q);
+            f_v_lt_ue  <= (p_v_q < p_ue_q);
+            f_v_eq_ue  <= (p_v_q == p_ue_q);
+            f_v1_eq_ue <= (p_v_q == p_uem1_q);
             px_q <= c_xs_q;  py_q <= c_ys_q;
             d1_q <= p_d1_q;  d2_q <= p_d2_q; f_q <= {DW{1'b0}};
             p1_q <= p_p1_q;  p2_q <= p_p2_q; p3_q <= p_p3_q;
@@ -419,6 +470,10 @@ module halfpoint_arc #(
         end else if (ce) begin
             q_q <= q_n;  u_q <= u_n;  v_q <= v_n;
             armed_q <= armed_q || xing;
+            u_one_q    <= n_u_one;
+            f_v_gt_ve  <= n_v_gt_ve;  f_v_eq_ve <= n_v_eq_ve;  f_v1_eq_ve <= n_v1_eq_ve;
+            f_u_lt_ue  <= n_u_lt_ue;  f_u_eq_ue <= n_u_eq_ue;  f_u_eq_ue1 <= n_u_eq_ue1;
+            f_v_lt_ue  <= n_v_lt_ue;  f_v_eq_ue <= n_v_eq_ue;  f_v1_eq_ue <= n_v1_eq_ue;
             px_q <= px_n; py_q <= py_n;
             d1_q <= d1_q + d1_inc;
             d2_q <= d2_q + d2_inc;

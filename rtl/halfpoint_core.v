@@ -91,43 +91,18 @@ module halfpoint_core #(
     localparam [34:0] CREDIT_CAP = 35'd67108864;    // 2^26
 
     // ------------------------------------------------------------------
-    // Queue
+    // Decode at the queue's input
     // ------------------------------------------------------------------
-    reg  [255:0]  mem [0:DEPTH-1];
-    reg  [AW-1:0] wr_q, rd_q;
-    reg  [AW:0]   count_q;
-    wire          pop;
-    wire          push = s_axis_tvalid && s_axis_tready;
-    localparam [AW:0] FULL = {1'b1, {AW{1'b0}}};     // DEPTH
-    localparam [AW-1:0] P1 = {{(AW-1){1'b0}}, 1'b1};
-    localparam [AW:0] C1 = {{AW{1'b0}}, 1'b1};
-
-    assign s_axis_tready = (count_q != FULL) && !abort_now;
-    assign queue_level   = count_q;
-
-    always @(posedge clk) begin
-        if (push) mem[wr_q] <= s_axis_tdata;
-    end
-    always @(posedge clk) begin
-        if (rst || abort_now) begin
-            wr_q <= {AW{1'b0}}; rd_q <= {AW{1'b0}}; count_q <= {(AW+1){1'b0}};
-        end else begin
-            if (push) wr_q <= wr_q + P1;
-            if (pop)  rd_q <= rd_q + P1;
-            if (push && !pop) count_q <= count_q + C1;
-            else if (pop && !push) count_q <= count_q - C1;
-        end
-    end
-
-    // ------------------------------------------------------------------
-    // Decode of the queue head
-    // ------------------------------------------------------------------
-    wire [255:0] head = mem[rd_q];
-    wire [31:0]  hw0 = head[31:0];
-    wire [3:0]   op = hw0[3:0];
-    wire         h_cont = hw0[8];
-    wire [31:0]  h_rate = head[63:32];
-    wire         resv0 = (hw0[7:4] != 4'd0) || (hw0[31:9] != 23'd0);
+    // Each command is checked and put in run form as it is pushed, so that
+    // the queue head feeds the dispatcher and the units with no arithmetic
+    // in between.  The checks are the same and their results are acted on
+    // when the command reaches the head, exactly as if it were decoded there.
+    wire [255:0] in_w = s_axis_tdata;
+    wire [31:0]  iw0 = in_w[31:0];
+    wire [3:0]   op = iw0[3:0];
+    wire         in_cont = iw0[8];
+    wire [31:0]  in_rate = in_w[63:32];
+    wire         resv0 = (iw0[7:4] != 4'd0) || (iw0[31:9] != 23'd0);
 
     // does a 33-bit signed value fit W bits?
     function fits;
@@ -154,27 +129,27 @@ module halfpoint_core #(
         l_delta = {NA*W{1'b0}};
         for (k = 0; k < 6; k = k + 1) begin
             if (k < NA) begin
-                if (!fits(sx33(head[64+32*k +: 32]))) l_fit = 1'b0;
-                if (head[64+32*k +: 32] != 32'd0) l_zero = 1'b0;
-                l_delta[k*W +: W] = head[64+32*k +: W];
-            end else if (head[64+32*k +: 32] != 32'd0) begin
+                if (!fits(sx33(in_w[64+32*k +: 32]))) l_fit = 1'b0;
+                if (in_w[64+32*k +: 32] != 32'd0) l_zero = 1'b0;
+                l_delta[k*W +: W] = in_w[64+32*k +: W];
+            end else if (in_w[64+32*k +: 32] != 32'd0) begin
                 l_resv = 1'b1;
             end
         end
     end
 
     // arc fields: start and end relative to the centre
-    wire [32:0] a_i  = sx33(head[95:64]);
-    wire [32:0] a_j  = sx33(head[127:96]);
-    wire [32:0] a_x  = sx33(head[159:128]);
-    wire [32:0] a_y  = sx33(head[191:160]);
+    wire [32:0] a_i  = sx33(in_w[95:64]);
+    wire [32:0] a_j  = sx33(in_w[127:96]);
+    wire [32:0] a_x  = sx33(in_w[159:128]);
+    wire [32:0] a_y  = sx33(in_w[191:160]);
     wire [32:0] a_xs = 33'd0 - a_i;
     wire [32:0] a_ys = 33'd0 - a_j;
     wire [32:0] a_xe = a_x - a_i;
     wire [32:0] a_ye = a_y - a_j;
     wire        a_fit = fits(a_i) && fits(a_j) && fits(a_x) && fits(a_y) &&
                         fits(a_xs) && fits(a_ys) && fits(a_xe) && fits(a_ye);
-    wire        a_resv = (head[255:192] != 64'd0);
+    wire        a_resv = (in_w[255:192] != 64'd0);
 
     wire is_line = (op == OP_LINE);
     wire is_arc  = (op == OP_ARC_CW) || (op == OP_ARC_CCW);
@@ -182,18 +157,69 @@ module halfpoint_core #(
     wire bad_fit = !bad_op && ((is_line && !l_fit) || (is_arc && !a_fit));
     wire is_nop  = !bad_op && !bad_fit && is_line && l_zero;
 
+    // queue entry: {payload, rate, flags}; payload = line deltas, or the arc's
+    // start and end relative to the centre {ye, xe, ys, xs}
+    localparam integer PLW = (NA * W > 4 * W) ? NA * W : 4 * W;
+    localparam integer QW  = PLW + 40;
+    wire [PLW-1:0] in_pl = is_arc ? {{(PLW-4*W){1'b0}}, a_ye[W-1:0], a_xe[W-1:0], a_ys[W-1:0], a_xs[W-1:0]}
+                                  : {{(PLW-NA*W){1'b0}}, l_delta};
+    wire [7:0]     in_fl = {1'b0, is_nop, bad_fit, bad_op, in_cont, is_line, op == OP_ARC_CW, is_arc};
+    wire [QW-1:0]  in_entry = {in_pl, in_rate, in_fl};
+
+    // ------------------------------------------------------------------
+    // Queue
+    // ------------------------------------------------------------------
+    reg  [QW-1:0] mem [0:DEPTH-1];
+    reg  [AW-1:0] wr_q, rd_q;
+    reg  [AW:0]   count_q;
+    wire          pop;
+    wire          push = s_axis_tvalid && s_axis_tready;
+    localparam [AW:0] FULL = {1'b1, {AW{1'b0}}};     // DEPTH
+    localparam [AW-1:0] P1 = {{(AW-1){1'b0}}, 1'b1};
+    localparam [AW:0] C1 = {{AW{1'b0}}, 1'b1};
+
+    assign s_axis_tready = (count_q != FULL) && !abort_now;
+    assign queue_level   = count_q;
+
+    always @(posedge clk) begin
+        if (push) mem[wr_q] <= in_entry;
+    end
+    always @(posedge clk) begin
+        if (rst || abort_now) begin
+            wr_q <= {AW{1'b0}}; rd_q <= {AW{1'b0}}; count_q <= {(AW+1){1'b0}};
+        end else begin
+            if (push) wr_q <= wr_q + P1;
+            if (pop)  rd_q <= rd_q + P1;
+            if (push && !pop) count_q <= count_q + C1;
+            else if (pop && !push) count_q <= count_q - C1;
+        end
+    end
+
+    // the queue head, decoded
+    wire [QW-1:0]  head = mem[rd_q];
+    wire           h_arc    = head[0];
+    wire           h_cw     = head[1];
+    wire           h_line   = head[2];
+    wire           h_cont   = head[3];
+    wire           h_bad_op = head[4];
+    wire           h_bad_fit = head[5];
+    wire           h_nop    = head[6];
+    wire [31:0]    h_rate   = head[39:8];
+    wire [PLW-1:0] h_pl     = head[QW-1:40];
+    wire           unused_head = head[7];
+
     // ------------------------------------------------------------------
     // Dispatcher
     // ------------------------------------------------------------------
     reg         inflight_q;
     wire        head_ok = (count_q != {(AW+1){1'b0}}) && !inflight_q && !abort_now;
-    wire        arc_s_valid  = head_ok && is_arc && !bad_op && !bad_fit;
-    wire        line_s_valid = head_ok && is_line && !bad_op && !bad_fit && !l_zero;
+    wire        arc_s_valid  = head_ok && h_arc && !h_bad_op && !h_bad_fit;
+    wire        line_s_valid = head_ok && h_line && !h_bad_op && !h_bad_fit && !h_nop;
     wire        arc_s_ready, line_s_ready;
     wire        arc_take  = arc_s_valid && arc_s_ready;
     wire        line_take = line_s_valid && line_s_ready;
-    wire        disp_err  = head_ok && (bad_op || bad_fit);
-    assign pop = disp_err || (head_ok && is_nop) || arc_take || line_take;
+    wire        disp_err  = head_ok && (h_bad_op || h_bad_fit);
+    assign pop = disp_err || (head_ok && h_nop) || arc_take || line_take;
 
     // ------------------------------------------------------------------
     // Units
@@ -213,8 +239,8 @@ module halfpoint_core #(
 
     halfpoint_arc #(.W(W)) u_arc (
         .clk(clk), .rst(rst), .en(go && arc_run),
-        .s_valid(arc_s_valid), .s_ready(arc_s_ready), .s_cw(op == OP_ARC_CW),
-        .s_xs(a_xs[W-1:0]), .s_ys(a_ys[W-1:0]), .s_xe(a_xe[W-1:0]), .s_ye(a_ye[W-1:0]),
+        .s_valid(arc_s_valid), .s_ready(arc_s_ready), .s_cw(h_cw),
+        .s_xs(h_pl[W-1:0]), .s_ys(h_pl[2*W-1:W]), .s_xe(h_pl[3*W-1:2*W]), .s_ye(h_pl[4*W-1:3*W]),
         .busy(arc_busy), .move(unused_arc_move), .step_x(unused_arc_sx), .step_y(unused_arc_sy),
         .dir_x(unused_arc_dx), .dir_y(unused_arc_dy), .x(unused_arc_x), .y(unused_arc_y),
         .f(unused_arc_f), .done(unused_arc_done), .reject(arc_reject), .err_code(arc_err),
@@ -224,7 +250,7 @@ module halfpoint_core #(
 
     halfpoint_line #(.NA(NA), .W(W)) u_line (
         .clk(clk), .rst(rst), .en(go && line_run),
-        .s_valid(line_s_valid), .s_ready(line_s_ready), .s_delta(l_delta),
+        .s_valid(line_s_valid), .s_ready(line_s_ready), .s_delta(h_pl[NA*W-1:0]),
         .busy(line_busy), .move(unused_line_move), .step(unused_line_step), .dir(unused_line_dir),
         .done(unused_line_done), .reject(line_reject), .err_code(line_err),
         .abort_now(abort_now), .start_en(!arc_run || arc_ending), .running(line_run), .loading(line_loading),
@@ -277,10 +303,21 @@ module halfpoint_core #(
     wire [8:0]  ov_back = (ov_k == 2'd2) ? 9'd200 : (ov_k == 2'd1) ? 9'd100 : 9'd0;
     wire [31:0] rate   = arc_run ? arc_rate_a : line_run ? line_rate_a : 32'd0;
     wire [34:0] inc    = (ov_k == 2'd2) ? {2'b00, rate, 1'b0} : (ov_k == 2'd1) ? {3'b000, rate} : 35'd0;
-    wire [34:0] spend  = go ? (diag ? COST_DIAG : COST_AXIS) : 35'd0;
-    wire [34:0] credit_n = credit_q + inc - spend;
-    // credit_n > CREDIT_CAP (= 2^26; credit_n is never negative), as a LUT tree
-    wire        over_cap = (|credit_n[34:27]) || (credit_n[26] && (|credit_n[25:0]));
+    // credit + inc - (go ? cost : 0), as two sums in parallel so that the
+    // late `go` only selects: the cost is taken off the credit while the
+    // override settles inc
+    wire [34:0] credit_m = credit_q - (diag ? COST_DIAG : COST_AXIS);
+    wire [34:0] sum_go   = credit_m + inc;
+    wire [34:0] sum_hold = credit_q + inc;
+    // x > CREDIT_CAP (= 2^26) for a non-negative x, as a LUT tree
+    function over_cap;
+        input [34:0] x;
+        begin
+            over_cap = (|x[34:27]) || (x[26] && (|x[25:0]));
+        end
+    endfunction
+    wire [34:0] credit_n = go ? (over_cap(sum_go) ? CREDIT_CAP : sum_go)
+                              : (over_cap(sum_hold) ? CREDIT_CAP : sum_hold);
 
     always @(posedge clk) begin
         if (rst) begin
@@ -290,7 +327,7 @@ module halfpoint_core #(
         end else if (abort_now) begin
             credit_q <= 35'd0;
         end else begin
-            credit_q <= over_cap ? CREDIT_CAP : credit_n;
+            credit_q <= credit_n;
             th1_q    <= th1_q - ov_eff + ov_back;
             th2_q    <= th2_q - ov_eff + ov_back;
         end
@@ -338,7 +375,7 @@ module halfpoint_core #(
             move <= go;
             err  <= !abort_now && (disp_err || arc_reject || line_reject);
             if (!abort_now) begin
-                if (disp_err)         err_code <= bad_op ? E_OPCODE : E_FIELD;
+                if (disp_err)         err_code <= h_bad_op ? E_OPCODE : E_FIELD;
                 else if (arc_reject)  err_code <= arc_code;
                 else if (line_reject) err_code <= E_OPCODE;
             end

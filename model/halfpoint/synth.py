@@ -316,7 +316,11 @@ def main(argv=None) -> int:
     ap.add_argument("--only", nargs="*", help="targets to run (default all)")
     ap.add_argument("--devices", nargs="*", default=list(DEVICES), help="devices (default all)")
     ap.add_argument("--boards-only", action="store_true", help="only the example board tops")
+    ap.add_argument("--out", help="output directory inside the repository (default build/synth)")
     a = ap.parse_args(argv)
+    global OUT
+    if a.out:
+        OUT = (REPO / a.out).resolve()
     if a.boards_only:
         return boards_main(a.jobs)
     targets = [t for t in TARGETS if not a.only or t.name in a.only]
