@@ -17,7 +17,8 @@
 //   * the feed credit covers the move's cost (2^24 for an axis move or a line
 //     iteration, round(sqrt(2) * 2^24) for a diagonal arc move), the credit
 //     growing by rate * k per clock, k in {0, 1, 2} from the feed override
-//     (percent, 0..200; 0 holds the motion), capped at 2^26;
+//     (percent, 0..200; 0 holds the motion; registered, so a change acts one
+//     clock later), capped at 2^26;
 //   * and every axis the move steps has its STEP/DIR generator ready for the
 //     move's direction (otherwise the move waits: no step dropped or merged).
 // Positions count every step.  Rejected commands (bad opcode or reserved
@@ -291,18 +292,28 @@ module halfpoint_core #(
 
     reg  [34:0]   credit_q;
     // override accumulator a (0..99, the model's ov_acc) kept as the two
-    // thresholds 100 - a and 200 - a, so that k needs compares, not an add
+    // thresholds 100 - a and 200 - a, so that k needs compares, not an add;
+    // the override input is registered (ovr_q, clamped to 200) and k for the
+    // next clock is computed a clock ahead (k_q = k(th, ovr_q)), so that the
+    // credit adder starts from a register
     reg  [8:0]    th1_q, th2_q;
+    reg  [7:0]    ovr_q;
+    reg  [1:0]    k_q;
     wire          diag     = arc_run && arc_nx_diag;
     wire          ok_axis  = (credit_q >= COST_AXIS);
     wire          ok_diag  = (credit_q >= COST_DIAG);
     assign go = (arc_run || line_run) && steps_ready && (diag ? ok_diag : ok_axis) && !abort_now;
 
-    wire [8:0]  ov_eff = (feed_override > 8'd200) ? 9'd200 : {1'b0, feed_override};
-    wire [1:0]  ov_k   = (ov_eff >= th2_q) ? 2'd2 : (ov_eff >= th1_q) ? 2'd1 : 2'd0;
-    wire [8:0]  ov_back = (ov_k == 2'd2) ? 9'd200 : (ov_k == 2'd1) ? 9'd100 : 9'd0;
+    wire [7:0]  ovr_n   = (feed_override > 8'd200) ? 8'd200 : feed_override;
+    wire [8:0]  ov_back = (k_q == 2'd2) ? 9'd200 : (k_q == 2'd1) ? 9'd100 : 9'd0;
+    wire [8:0]  th1_n   = th1_q - {1'b0, ovr_q} + ov_back;
+    wire [8:0]  th2_n   = th2_q - {1'b0, ovr_q} + ov_back;
+    // thresholds of the next clock: unchanged across an abort edge
+    wire [8:0]  th1_x   = abort_now ? th1_q : th1_n;
+    wire [8:0]  th2_x   = abort_now ? th2_q : th2_n;
+    wire [1:0]  k_n     = ({1'b0, ovr_n} >= th2_x) ? 2'd2 : ({1'b0, ovr_n} >= th1_x) ? 2'd1 : 2'd0;
     wire [31:0] rate   = arc_run ? arc_rate_a : line_run ? line_rate_a : 32'd0;
-    wire [34:0] inc    = (ov_k == 2'd2) ? {2'b00, rate, 1'b0} : (ov_k == 2'd1) ? {3'b000, rate} : 35'd0;
+    wire [34:0] inc    = (k_q == 2'd2) ? {2'b00, rate, 1'b0} : (k_q == 2'd1) ? {3'b000, rate} : 35'd0;
     // credit + inc - (go ? cost : 0), as two sums in parallel so that the
     // late `go` only selects: the cost is taken off the credit while the
     // override settles inc
@@ -324,12 +335,18 @@ module halfpoint_core #(
             credit_q <= 35'd0;
             th1_q    <= 9'd100;
             th2_q    <= 9'd200;
-        end else if (abort_now) begin
-            credit_q <= 35'd0;
+            ovr_q    <= 8'd0;
+            k_q      <= 2'd0;
         end else begin
-            credit_q <= credit_n;
-            th1_q    <= th1_q - ov_eff + ov_back;
-            th2_q    <= th2_q - ov_eff + ov_back;
+            ovr_q <= ovr_n;
+            k_q   <= k_n;
+            if (abort_now) begin
+                credit_q <= 35'd0;
+            end else begin
+                credit_q <= credit_n;
+                th1_q    <= th1_n;
+                th2_q    <= th2_n;
+            end
         end
     end
 

@@ -22,7 +22,8 @@ Data path, clock by clock:
   clock when the next segment has been validated in time.
 * Feed: a credit accumulator gains rate x k per clock (k in {0, 1, 2} from
   the feed override: an accumulator of `override` percent per clock, k = how
-  many hundreds it passes); a move needs credit >= its cost, 2^24 for a move
+  many hundreds it passes; the override is registered, so a change takes
+  effect one clock later); a move needs credit >= its cost, 2^24 for a move
   of one axis or a line iteration, round(sqrt(2) 2^24) for a diagonal arc
   move, and spends it.  Credit is capped at 2^26 and does not grow while no
   segment runs.
@@ -132,6 +133,7 @@ class CoreModel:
         self.act = {"arc": (0, False), "line": (0, False)}     # of the running segment
         self.credit = 0
         self.ov_acc = 0
+        self.ov_in = 0              # the override input, clamped, registered
         self.stepgens = [StepGenModel(self.tw) for _ in range(self.axes)]
         self.pos = [0] * self.axes
         self.o_move = 0
@@ -194,7 +196,9 @@ class CoreModel:
             self.reset()
             return
         self.abort_pin = i.abort
+        ov_sampled = min(i.override, OVERRIDE_MAX)
         if i.abort:
+            self.ov_in = ov_sampled
             self._abort()
             return
         unit = self._running()
@@ -288,7 +292,8 @@ class CoreModel:
             self.o_underrun = 1
 
         # --- feed-rate credit ---
-        ov = min(i.override, OVERRIDE_MAX)
+        ov = self.ov_in
+        self.ov_in = ov_sampled
         s = self.ov_acc + ov
         k = 2 if s >= 200 else 1 if s >= 100 else 0
         self.ov_acc = s - 100 * k
