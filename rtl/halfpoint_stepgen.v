@@ -12,15 +12,16 @@
 // and step_inv / dir_inv invert the pins (active-low drivers).
 //
 // Handshake: ready_pos / ready_neg say whether a request in that direction
-// is taken at this clock edge (they depend only on registers and the
-// settings).  The requester asserts req (with req_dir, 1 = positive) only
+// is taken at this clock edge (they depend only on registers: the
+// comparisons of the inactive time with stepspace and dirhold are registered,
+// made at each edge with that clock's settings).  The requester asserts req (with req_dir, 1 = positive) only
 // when the matching ready is high and holds its interpolator back otherwise,
 // so no step is dropped or merged.  A request in the same direction makes
 // STEP active from the next clock; one in the other direction changes DIR at
 // the next clock and makes STEP active dirsetup clocks later.
 //
 // Both pins are registers.  Settings may change at any time; they act from
-// the next decision on.
+// the next decision on (on readiness, one clock later).
 //
 // Parameters:
 //   TW  width of the timing settings in bits, 2..16
@@ -64,9 +65,11 @@ module halfpoint_stepgen #(
 
     wire [TW-1:0] steplen  = (cfg_steplen == {TW{1'b0}}) ? T1 : cfg_steplen;
     wire          in_low   = (state_q == S_LOW);
-    wire          sp_ok    = (low_t_q >= cfg_stepspace);
-    wire          ready_same = in_low && sp_ok;
-    wire          ready_flip = in_low && sp_ok && (low_t_q >= cfg_dirhold);
+    // low_t >= stepspace and low_t >= dirhold, registered: computed at each
+    // edge for the new low_t, so no comparator sits in the ready path
+    reg           sp_ok_q, dh_ok_q;
+    wire          ready_same = in_low && sp_ok_q;
+    wire          ready_flip = in_low && sp_ok_q && dh_ok_q;
     assign ready_pos = dir_q  ? ready_same : ready_flip;
     assign ready_neg = !dir_q ? ready_same : ready_flip;
     assign busy      = !in_low;
@@ -121,6 +124,8 @@ module halfpoint_stepgen #(
             cnt_q    <= {TW{1'b0}};
             low_t_q  <= TMAX;
             dir_q    <= 1'b0;
+            sp_ok_q  <= 1'b1;       // low_t = max
+            dh_ok_q  <= 1'b1;
             step_pin <= cfg_step_inv;
             dir_pin  <= cfg_dir_inv;
         end else begin
@@ -128,6 +133,8 @@ module halfpoint_stepgen #(
             cnt_q    <= cnt_n;
             low_t_q  <= low_t_n;
             dir_q    <= dir_n;
+            sp_ok_q  <= (low_t_n >= cfg_stepspace);
+            dh_ok_q  <= (low_t_n >= cfg_dirhold);
             // pins are registered copies of the next state, with polarity
             step_pin <= (state_n == S_HIGH) ^ cfg_step_inv;
             dir_pin  <= dir_n ^ cfg_dir_inv;

@@ -20,6 +20,9 @@ active).  A request in LOW:
   same direction: ready when low_t >= stepspace; STEP goes active next clock.
   new direction:  ready when low_t >= max(stepspace, dirhold); DIR changes next
                   clock, STEP goes active dirsetup clocks after that.
+The two comparisons are registered (computed at each edge for the new low_t
+with the settings of that clock), so a settings change acts on readiness one
+clock later; pins and counts use the settings of the clock itself.
 """
 
 from __future__ import annotations
@@ -66,13 +69,15 @@ class StepGenModel:
         self.cnt = 0
         self.low_t = self.tmax
         self.dir = 0
+        self.sp_ok = 1          # low_t >= stepspace, registered (low_t = max)
+        self.dh_ok = 1          # low_t >= dirhold, registered
 
     def _ready(self, cfg: StepCfg, d: int) -> int:
         if self.state != S_LOW:
             return 0
         if d == self.dir:
-            return int(self.low_t >= cfg.stepspace)
-        return int(self.low_t >= cfg.stepspace and self.low_t >= cfg.dirhold)
+            return self.sp_ok
+        return int(self.sp_ok and self.dh_ok)
 
     def outputs(self, cfg: StepCfg) -> StepOutputs:
         return StepOutputs(
@@ -87,6 +92,11 @@ class StepGenModel:
         if i.rst:
             self.reset()
             return
+        self._advance(cfg, i)
+        self.sp_ok = int(self.low_t >= cfg.stepspace)
+        self.dh_ok = int(self.low_t >= cfg.dirhold)
+
+    def _advance(self, cfg: StepCfg, i: StepInputs) -> None:
         if i.req and not self._ready(cfg, i.req_dir):
             # the RTL would ignore it: a lost step; the requester must wait
             raise AssertionError("step request while not ready")
