@@ -73,16 +73,20 @@ def speed_ripple(weighted: bool, r: int = 1000, rate: float = 0.25, window: int 
 
 
 def max_step_rate(cfg: StepCfg, n: int = 200):
-    """Steps per clock one axis sustains in one direction at these timings."""
+    """Steps per clock one axis sustains in one direction at these timings:
+    (n - 1) step periods over the clocks from the first step to the last."""
     sg = StepGenModel()
-    taken, cyc = 0, 0
+    taken, cyc, first, last = 0, 0, None, None
     while taken < n:
         o = sg.outputs(cfg)
         req = int(o.ready_pos)
+        if req:
+            first = cyc if first is None else first
+            last = cyc
         taken += req
         sg.clock(cfg, StepInputs(req=req, req_dir=1))
         cyc += 1
-    return n / cyc
+    return (n - 1) / (last - first)
 
 
 def cam_program(blocks: int = 100_000, contours: int = 20, seed: int = SEED) -> str:
