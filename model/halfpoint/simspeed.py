@@ -67,7 +67,7 @@ def program(n: int = 300, seed: int = 1) -> list[int]:
     return cmds
 
 
-def compiled_speed(repeats: int = 20, seed: int = 1) -> dict:
+def compiled_speed(repeats: int = 200, seed: int = 1) -> dict:
     """Clocks per second of the compiled harness (checked against the model)."""
     exe = setup_verilator_env()
     work = BUILD / "bench" / "speed_harness"
