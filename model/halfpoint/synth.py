@@ -71,6 +71,8 @@ TARGETS = [
     Target("halfpoint_arc", "halfpoint_arc", {"W": 32}, "arc unit, 32-bit coordinates"),
     Target("halfpoint_core", "halfpoint_core", {"NA": 3, "W": 32, "DEPTH": 16, "TW": 16},
            "motion core, 3 axes, 32-bit coordinates, 16-deep queue"),
+    Target("core_w16", "halfpoint_core", {"NA": 3, "W": 16, "DEPTH": 16, "TW": 16},
+           "motion core, 3 axes, 16-bit coordinates (+-32767 BLU): what fits the smaller iCE40s"),
 ]
 
 
