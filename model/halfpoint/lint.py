@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import subprocess
 import sys
-
 from pathlib import Path
 
 from .sim import RTL, setup_verilator_env
