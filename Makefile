@@ -30,7 +30,7 @@ $(STAMP): requirements.txt pyproject.toml
 	@touch $@
 
 lint: setup
-	$(VPY) -m halfpoint.lint
+	$(VPY) -m halfpoint.flows.lint
 
 test: setup lint
 	$(VPY) -m pytest -n $(JOBS) tb
@@ -39,13 +39,13 @@ demo: setup
 	$(VENV)/bin/halfpoint demo --out build/demo
 
 bench: setup
-	$(VPY) -m halfpoint.bench
+	$(VPY) -m halfpoint.flows.bench
 
 synth: setup
-	$(VPY) -m halfpoint.synth --seeds $(SEEDS) --jobs $(JOBS)
+	$(VPY) -m halfpoint.flows.synth --seeds $(SEEDS) --jobs $(JOBS)
 
 boards: setup
-	$(VPY) -m halfpoint.synth --boards-only --jobs $(JOBS)
+	$(VPY) -m halfpoint.flows.synth --boards-only --jobs $(JOBS)
 
 clean:
 	rm -rf build

@@ -8,7 +8,7 @@ import sys
 
 import pytest
 
-from halfpoint.arc import arc_points
+from halfpoint.spec.arc import arc_points
 
 
 def hp(*args):
@@ -89,7 +89,7 @@ def test_segments_random_file_model_and_rtl_identical(tmp_path):
     import math
     import random
 
-    from halfpoint.arc import lattice_point_near
+    from halfpoint.spec.arc import lattice_point_near
 
     rng = random.Random(4)
     lines = []

@@ -15,9 +15,10 @@ from __future__ import annotations
 import argparse
 import sys
 
-from .arc import ERR_TEXT, ArcRejected, check_width, field_ok
-from .engines import ENGINES, run_arcs
-from .gcode import GcodeError
+from .spec.arc import ERR_TEXT, ArcRejected
+from .spec.rules import check_width, fits
+from .sim.engines import ENGINES, run_arcs
+from .cam.gcode import GcodeError
 
 
 class UsageError(Exception):
@@ -121,7 +122,7 @@ def _comp_args(p) -> None:
 
 
 def cmd_compensate(args) -> int:
-    from .run import load_program, print_warnings, to_gcode
+    from .cam.run import load_program, print_warnings, to_gcode
 
     if args.window < 1:
         raise UsageError("--window must be at least 1")
@@ -132,12 +133,13 @@ def cmd_compensate(args) -> int:
 
 
 def cmd_run(args) -> int:
-    from .run import plot_run, print_warnings, run_program, write_trace
+    from .cam.run import plot_run, print_warnings, run_program, write_trace
+    from .sim.engines import core_runner
 
     blu_z = args.blu if args.blu_z is None else args.blu_z
     if args.blu <= 0 or blu_z <= 0:
         raise UsageError("--blu and --blu-z must be positive")
-    res = run_program(args.program, args.engine, args.radius, args.tools, args.strict,
+    res = run_program(args.program, core_runner(args.engine), args.radius, args.tools, args.strict,
                       (args.blu, args.blu, blu_z), args.window)
     print_warnings(args.program, res.warnings)
     print(f"blocks: {len(res.programmed)} programmed, {len(res.compensated)} after compensation")
@@ -166,7 +168,7 @@ def cmd_run(args) -> int:
 def cmd_fit(args) -> int:
     import math
 
-    from . import triarc
+    from .curves import triarc
 
     if args.tol <= 0:
         raise UsageError("--tol must be positive")
@@ -198,7 +200,7 @@ def cmd_fit(args) -> int:
 
 
 def cmd_chords(args) -> int:
-    from .chords import chords_gcode, parabola_chords
+    from .curves.chords import chords_gcode, parabola_chords
 
     if args.feed <= 0 or args.period <= 0:
         raise UsageError("--feed and --period must be positive")
@@ -217,7 +219,7 @@ def cmd_arc(args) -> int:
     except ValueError as exc:
         raise UsageError(str(exc)) from None
     for name in ("xs", "ys", "xe", "ye"):
-        if not field_ok(getattr(args, name), args.width):
+        if not fits(getattr(args, name), args.width):
             raise UsageError(f"{name.upper()}={getattr(args, name)} does not fit a signed {args.width}-bit field")
     cmd = (1 if args.cw else 0, args.xs, args.ys, args.xe, args.ye)
     (res,) = run_arcs([cmd], args.engine, args.width)
@@ -231,7 +233,8 @@ def cmd_arc(args) -> int:
 
 
 def cmd_segments(args) -> int:
-    from .segments import SegmentError, parse_segments, run_segments_model, run_segments_rtl
+    from .cam.segments import SegmentError, parse_segments
+    from .sim.engines import core_runner
 
     try:
         with open(args.file, encoding="utf-8") as fh:
@@ -244,7 +247,7 @@ def cmd_segments(args) -> int:
         print(f"halfpoint: {args.file}: {exc}", file=sys.stderr)
         return 3
     cmds = [s.cmd for s in segs]
-    trace = (run_segments_rtl if args.engine == "rtl" else run_segments_model)(cmds)
+    trace = core_runner(args.engine)(cmds)
     out = [",".join("0" for _ in range(3))] + [",".join(str(v) for v in p) for p in trace]
     sys.stdout.write("\n".join(out) + "\n")
     return 0
@@ -255,7 +258,7 @@ def main(argv=None) -> int:
     try:
         args = parser.parse_args(argv)
         if args.cmd == "demo":
-            from .demo import run_demo
+            from .flows.demo import run_demo
 
             return run_demo(args.out, args.engine)
         handlers = {"arc": cmd_arc, "segments": cmd_segments, "fit": cmd_fit, "chords": cmd_chords,

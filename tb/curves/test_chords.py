@@ -9,8 +9,8 @@ import sys
 
 import pytest
 
-from halfpoint.chords import chord_stats, parabola_chords
-from halfpoint.gcode import parse
+from halfpoint.curves.chords import chord_stats, parabola_chords
+from halfpoint.cam.gcode import parse
 
 GRID = [(a, f) for a in (0.01, 0.1, 1.0) for f in (0.02, 0.04, 0.06, 0.08)]
 

@@ -10,7 +10,7 @@ import sys
 
 import pytest
 
-from halfpoint import triarc
+from halfpoint.curves import triarc
 
 
 @pytest.mark.parametrize(

@@ -14,10 +14,10 @@ import random
 import cocotb
 
 from arcgen import arc_for_quadrants, full_circle, short_arc
-from halfpoint.arc import (
+from halfpoint.spec.arc import (
     ERR_END_OFF, ERR_RADIUS_ZERO, ERR_RANGE, arc_points, limits, validate_latency,
 )
-from halfpoint.cocotb_arc import ArcBench
+from halfpoint.sim.arcbench import ArcBench
 
 W = int(os.environ.get("HP_W", "32"))
 SEED = int(os.environ.get("HP_SEED", "1"))

@@ -6,8 +6,8 @@ from __future__ import annotations
 import math
 import random
 
-from halfpoint.arc import frame, limits, validate
-from halfpoint.arc import lattice_point_near as nearest_on_circle
+from halfpoint.spec.arc import frame, limits, validate
+from halfpoint.spec.arc import lattice_point_near as nearest_on_circle
 
 
 def start_point(rng: random.Random, r: float, theta: float, width: int) -> tuple[int, int]:

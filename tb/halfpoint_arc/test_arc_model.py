@@ -9,7 +9,7 @@ import random
 import numpy as np
 import pytest
 
-from halfpoint.arc import (
+from halfpoint.spec.arc import (
     ERR_END_OFF, ERR_NONE, ERR_RADIUS_ZERO, ERR_RANGE, ArcRejected, ArcRun,
     ArcInputs, ArcUnitModel, arc_points, frame, full_circle_stats, limits,
     move_bound, validate, validate_latency,
@@ -155,7 +155,7 @@ def test_cycle_model_timing():
 
 def test_lean_stop_predictor_equals_the_model():
     """arc_stop (the host's fast predictor) stops where ArcRun stops."""
-    from halfpoint.arc import arc_stop
+    from halfpoint.spec.arc import arc_stop
 
     rng = random.Random(11)
     for _ in range(800):
@@ -164,7 +164,7 @@ def test_lean_stop_predictor_equals_the_model():
             continue
         cw = rng.randint(0, 1)
         r2 = xs * xs + ys * ys
-        from halfpoint.arc import lattice_point_near
+        from halfpoint.spec.arc import lattice_point_near
         xe, ye = lattice_point_near(r2, rng.uniform(0, 2 * math.pi))
         if rng.random() < 0.1:
             xe, ye = xs, ys

@@ -4,7 +4,7 @@
 
 import pytest
 
-from halfpoint.sim import BUILD, rtl_sources, run_cocotb
+from halfpoint.sim.env import BUILD, rtl_sources, run_cocotb
 
 
 # every cocotb test at the two widths the issue names; an odd width in

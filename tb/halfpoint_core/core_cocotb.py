@@ -10,11 +10,11 @@ import random
 import cocotb
 from cocotb.triggers import FallingEdge
 
-from halfpoint import encoding as enc
-from halfpoint.cocotb_core import CoreBench
-from halfpoint.core import wrap
-from halfpoint.program import expect, random_arc, random_line
-from halfpoint.stepgen import StepCfg
+from halfpoint.spec import encoding as enc
+from halfpoint.sim.corebench import CoreBench
+from halfpoint.spec.rules import wrap
+from halfpoint.spec.program import expect, random_arc, random_line
+from halfpoint.spec.stepgen import StepCfg
 
 NA = int(os.environ.get("HP_NA", "3"))
 W = int(os.environ.get("HP_W", "32"))

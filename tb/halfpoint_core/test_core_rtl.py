@@ -3,7 +3,7 @@
 
 import pytest
 
-from halfpoint.sim import BUILD, rtl_sources, run_cocotb
+from halfpoint.sim.env import BUILD, rtl_sources, run_cocotb
 
 CASES = [(3, 32, 4), (2, 16, 8)]
 

@@ -11,8 +11,8 @@ import random
 
 import cocotb
 
-from halfpoint.cocotb_line import LineBench
-from halfpoint.line import ERR_EMPTY, line_latency, line_steps
+from halfpoint.sim.linebench import LineBench
+from halfpoint.spec.line import ERR_EMPTY, line_latency, line_steps
 
 NA = int(os.environ.get("HP_NA", "3"))
 W = int(os.environ.get("HP_W", "32"))

@@ -7,7 +7,7 @@ import random
 
 import pytest
 
-from halfpoint.line import (
+from halfpoint.spec.line import (
     ERR_EMPTY, LineInputs, LineRejected, LineUnitModel, line_latency, line_steps,
 )
 

@@ -3,7 +3,7 @@
 
 import pytest
 
-from halfpoint.sim import BUILD, rtl_sources, run_cocotb
+from halfpoint.sim.env import BUILD, rtl_sources, run_cocotb
 
 CASES = [(3, 32), (1, 16), (6, 16), (2, 24)]
 

@@ -4,7 +4,7 @@ with Verilator and runs refloop_cocotb.py for both loop forms."""
 
 import pytest
 
-from halfpoint.sim import BUILD, rtl_sources, run_cocotb
+from halfpoint.sim.env import BUILD, rtl_sources, run_cocotb
 
 
 @pytest.mark.parametrize("fold", [0, 1])

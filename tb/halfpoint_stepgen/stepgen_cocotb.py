@@ -11,8 +11,8 @@ import cocotb
 from cocotb.clock import Clock
 from cocotb.triggers import FallingEdge
 
-from halfpoint.stepgen import StepCfg, StepGenModel, StepInputs
-from halfpoint.timing import StepDirChecker
+from halfpoint.spec.stepgen import StepCfg, StepGenModel, StepInputs
+from halfpoint.sim.timing import StepDirChecker
 
 TW = int(os.environ.get("HP_TW", "16"))
 FIELDS = ("step_pin", "dir_pin", "ready_pos", "ready_neg", "busy")

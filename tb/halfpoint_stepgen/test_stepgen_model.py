@@ -7,8 +7,8 @@ import random
 
 import pytest
 
-from halfpoint.stepgen import StepCfg, StepGenModel, StepInputs
-from halfpoint.timing import StepDirChecker, TimingViolation
+from halfpoint.spec.stepgen import StepCfg, StepGenModel, StepInputs
+from halfpoint.sim.timing import StepDirChecker, TimingViolation
 
 
 def drive(cfg: StepCfg, want, rng, idle=0.0, tw=16):

@@ -3,7 +3,7 @@
 
 import pytest
 
-from halfpoint.sim import BUILD, rtl_sources, run_cocotb
+from halfpoint.sim.env import BUILD, rtl_sources, run_cocotb
 
 
 @pytest.mark.parametrize("tw", [16, 4])

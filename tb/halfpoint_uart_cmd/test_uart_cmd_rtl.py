@@ -3,7 +3,7 @@
 
 import pytest
 
-from halfpoint.sim import BUILD, rtl_sources, run_cocotb
+from halfpoint.sim.env import BUILD, rtl_sources, run_cocotb
 
 
 # (clocks per bit, host baud error in percent)

@@ -2,7 +2,7 @@
 """pytest runner: builds the example board top (serial port + motion core)
 with Verilator and runs uart_top_cocotb.py."""
 
-from halfpoint.sim import BUILD, rtl_sources, run_cocotb
+from halfpoint.sim.env import BUILD, rtl_sources, run_cocotb
 
 PARAMS = {"CLK_HZ": 1_000_000, "BAUD": 125_000, "NA": 3, "W": 32, "DEPTH": 4,
           "STEPLEN": 2, "STEPSPACE": 2, "DIRSETUP": 1, "DIRHOLD": 1, "BTN_ACTIVE_LOW": 1}

