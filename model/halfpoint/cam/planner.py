@@ -1,0 +1,403 @@
+# SPDX-License-Identifier: Apache-2.0
+"""Lookahead planner: moves in mm -> one trapezoidal speed profile per motion block.
+
+Input: the parser's ``Move`` list (``halfpoint.cam.gcode``; absolute mm, F in
+mm/min, G20 already converted) with ``Dwell`` items (G4 P seconds) in program
+order.  Output (``plan``): the same items in the same order, each ``Move`` as a
+``Segment`` (length, entry / cruise / exit path speed in mm/s, acceleration in
+mm/s^2, the times of the accelerate / cruise / decelerate phases and where
+deceleration starts), each ``Dwell`` kept as it is: a timed pause at rest.
+
+Rules:
+
+* **Speed limit** of a block (``Segment.v_limit``): F for G1/G2/G3; for G0 the
+  axes' maximum speed.  Either way no axis may exceed its ``max_velocity``:
+  the limit is projected onto the block's direction, v <= min_k vmax_k / |u_k|
+  (grbl's ``limit_value_by_axis_maximum``), for an arc with |u_k| the largest
+  over the swept angles.
+* **Acceleration** (``Segment.accel``, the tangential ramp), lines:
+  min_k amax_k / |u_k|.  Arcs also accelerate towards the centre by v^2 / R.
+  An arc splits each axis's budget: the tangential ramp gets
+  ``ARC_TANGENTIAL_SHARE`` (1/2) of the projected limit min_k amax_k / T_k,
+  the centripetal acceleration the rest of min_k amax_k / N_k (T_k, N_k: the
+  largest |tangent_k|, |normal_k| over the swept angles).  Since
+  |a_t t_k + a_n n_k| <= a_t T_k + a_n N_k, no axis exceeds its limit anywhere
+  on the arc.  The centripetal part caps the speed: v^2 / R <= (1 - share)
+  min_k amax_k / N_k.
+* **Junctions** by junction deviation, as grbl does it (gnea/grbl
+  ``grbl/planner.c``, ``plan_buffer_line``; Klipper ``klippy/toolhead.py``,
+  ``Move.calc_junction``, the same formula): with cos(theta) = -u_in . u_out
+  (theta = 180 degrees for a straight junction, 0 for a reversal),
+  v^2 = a_j * delta * sin(theta/2) / (1 - sin(theta/2)), where a_j is the axis
+  acceleration projected onto the direction u_out - u_in (grbl's
+  ``junction_unit_vec``) and delta is ``planner.junction_deviation_mm``.  A
+  straight junction (cos < -0.999999) is limited only by the blocks' speeds,
+  a reversal (cos > 0.999999) is a stop (grbl's MINIMUM_JUNCTION_SPEED, 0).
+  An arc meets its neighbours with its tangent at its ends.  The entry speed is
+  at most the smaller speed limit of the two blocks.
+* **Lookahead over the whole program**: the backward pass (the program ends
+  at rest; each entry speed at most what decelerating over the block reaches)
+  and the forward pass (each exit speed at most what accelerating over the
+  block reaches), as grbl's ``planner_recalculate`` and Klipper's
+  ``MoveQueue.flush``, over every block at once: a chain of tiny collinear
+  CAM segments cruises at F instead of stopping at every junction (the
+  complaint of grbl #1144).  Every program starts and ends at rest, and so do
+  the blocks either side of a dwell.
+* **Profile** of each block: accelerate at ``accel`` from the entry speed,
+  cruise at the highest speed the limit and the length allow, decelerate to
+  the exit speed; a block too short to reach its limit is a triangle (no
+  cruise).
+* A block of zero length (a line to where the tool is) moves nothing: it stays
+  in the plan as a ``Segment`` of length 0 and duration 0 at the speed the
+  path has there, and the junction is computed between its neighbours.
+
+``to_core(segment, machine)`` gives a segment in the motion core's units:
+path units per clock and per clock squared (floats), with the path unit
+documented there.  ``estimate_time(plan)`` is the planned run time in seconds.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from .gcode import GcodeError, Move
+from .machine import Machine, MachineError
+
+# arc acceleration budget: this share of each axis's limit for the tangential ramp,
+# the rest for the centripetal acceleration v^2 / R
+ARC_TANGENTIAL_SHARE = 0.5
+# grbl's thresholds on cos(theta) for a reversal and a straight junction
+REVERSAL_COS = 0.999999
+STRAIGHT_COS = -0.999999
+# grbl's MINIMUM_JUNCTION_SPEED (mm/s); 0 as in grbl's default
+MINIMUM_JUNCTION_SPEED = 0.0
+# arc plane -> (first axis, second axis, normal axis) of the centre's coordinates
+PLANE_AXES = {17: (0, 1, 2), 18: (2, 0, 1), 19: (1, 2, 0)}
+_TWO_PI = 2.0 * math.pi
+
+
+@dataclass(frozen=True)
+class Dwell:
+    """A timed pause at rest (G4 P seconds), kept in program order."""
+
+    seconds: float
+    lineno: int
+
+
+@dataclass
+class Segment:
+    """One planned motion block: geometry, limits and its trapezoidal profile.
+
+    Speeds are path speeds in mm/s, ``accel`` in mm/s^2 (the same rate up and
+    down), times in s, distances in mm from the segment's start.  The phases
+    run in order: accelerate for ``t_accel`` (over ``d_accel``), cruise at
+    ``v_cruise`` for ``t_cruise``, decelerate for ``t_decel`` from
+    ``d_decel_start`` to the end.  ``t_cruise`` is 0 for a triangle profile.
+    """
+
+    move: Move
+    length: float
+    v_limit: float                  # largest cruise speed allowed (F or G0, axes, centripetal)
+    accel: float
+    dir_start: tuple                # unit tangent at the start
+    dir_end: tuple                  # unit tangent at the end
+    radius: float = 0.0             # arcs: radius (mm); 0 for lines
+    sweep: float = 0.0              # arcs: signed swept angle (rad, CCW positive)
+    v_entry: float = 0.0
+    v_cruise: float = 0.0
+    v_exit: float = 0.0
+    t_accel: float = 0.0
+    t_cruise: float = 0.0
+    t_decel: float = 0.0
+    d_accel: float = 0.0
+    d_decel_start: float = 0.0
+
+    @property
+    def kind(self) -> str:
+        return self.move.kind
+
+    @property
+    def lineno(self) -> int:
+        return self.move.lineno
+
+    @property
+    def duration(self) -> float:
+        return self.t_accel + self.t_cruise + self.t_decel
+
+    def speed_at(self, t: float) -> float:
+        """Path speed (mm/s) ``t`` seconds after the segment started (clamped to it)."""
+        t = min(max(t, 0.0), self.duration)
+        if t <= self.t_accel:
+            return self.v_entry + self.accel * t
+        t -= self.t_accel
+        if t <= self.t_cruise:
+            return self.v_cruise
+        return max(self.v_cruise - self.accel * (t - self.t_cruise), 0.0)
+
+    def distance_at(self, t: float) -> float:
+        """Path distance (mm) covered ``t`` seconds after the segment started."""
+        t = min(max(t, 0.0), self.duration)
+        if t <= self.t_accel:
+            return self.v_entry * t + 0.5 * self.accel * t * t
+        t -= self.t_accel
+        d = self.d_accel
+        if t <= self.t_cruise:
+            return d + self.v_cruise * t
+        t -= self.t_cruise
+        return min(self.d_decel_start + self.v_cruise * t - 0.5 * self.accel * t * t,
+                   self.length)
+
+
+# --- geometry ---------------------------------------------------------------------------------
+
+def _max_abs_sin(lo: float, hi: float) -> float:
+    """Largest |sin(phi)| for phi in [lo, hi]."""
+    half = math.pi / 2
+    if math.ceil((lo - half) / math.pi) <= math.floor((hi - half) / math.pi):
+        return 1.0
+    return max(abs(math.sin(lo)), abs(math.sin(hi)))
+
+
+def _max_abs_cos(lo: float, hi: float) -> float:
+    return _max_abs_sin(lo + math.pi / 2, hi + math.pi / 2)
+
+
+def _projected(limits, weights) -> float:
+    """min_k limits_k / weights_k over the axes that move (weights_k > 0)."""
+    best = math.inf
+    for lim, w in zip(limits, weights):
+        if w > 1e-12:
+            best = min(best, lim / w)
+    return best
+
+
+def _unit(v) -> tuple:
+    n = math.sqrt(sum(c * c for c in v))
+    return tuple(c / n for c in v)
+
+
+def _segment(m: Move, machine: Machine) -> Segment:
+    vmax, amax = machine.max_velocity, machine.max_accel
+    if m.kind not in ("rapid", "line", "arc"):
+        raise GcodeError(m.lineno, f"the planner cannot plan a move of kind {m.kind!r}")
+    if m.kind != "rapid" and not (m.feed > 0 and math.isfinite(m.feed)):
+        raise GcodeError(m.lineno, f"no usable feed rate for this move (F = {m.feed!r} mm/min)")
+    feed = m.feed / 60.0 if m.kind != "rapid" else math.inf
+    if m.kind != "arc":
+        d = tuple(e - s for s, e in zip(m.start, m.end))
+        length = math.sqrt(sum(c * c for c in d))
+        if length == 0.0:
+            return Segment(m, 0.0, feed, 0.0, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
+        u = tuple(c / length for c in d)
+        w = tuple(abs(c) for c in u)
+        v_limit = min(feed, _projected(vmax, w))
+        return Segment(m, length, v_limit, _projected(amax, w), u, u)
+    if m.plane not in PLANE_AXES or m.center is None:
+        raise GcodeError(m.lineno, "arc without a centre or in an unknown plane")
+    a0, a1, ap = PLANE_AXES[m.plane]
+    if abs(m.end[ap] - m.start[ap]) > 1e-12:
+        raise GcodeError(m.lineno, "helical arcs are not supported (the axis normal to the "
+                                   "plane moves)")
+    cx, cy = m.center
+    sx, sy = m.start[a0] - cx, m.start[a1] - cy
+    ex, ey = m.end[a0] - cx, m.end[a1] - cy
+    radius = math.hypot(sx, sy)
+    if radius == 0.0:
+        raise GcodeError(m.lineno, "arc radius is zero (centre at the start point)")
+    phi0 = math.atan2(sy, sx)
+    if (m.start[a0], m.start[a1]) == (m.end[a0], m.end[a1]):
+        sweep = _TWO_PI                       # a programmed full circle
+    else:
+        sweep = (math.atan2(ey, ex) - phi0) % _TWO_PI
+        if m.cw:
+            sweep = (_TWO_PI - sweep) % _TWO_PI
+    if m.cw:
+        sweep = -sweep
+    length = radius * abs(sweep)
+
+    def tangent(phi):
+        t = [0.0, 0.0, 0.0]
+        sgn = -1.0 if m.cw else 1.0
+        t[a0], t[a1] = -sgn * math.sin(phi), sgn * math.cos(phi)
+        return tuple(t)
+
+    dir_start, dir_end = tangent(phi0), tangent(phi0 + sweep)
+    if length == 0.0:
+        return Segment(m, 0.0, feed, 0.0, dir_start, dir_end, radius, 0.0)
+    lo, hi = sorted((phi0, phi0 + sweep))
+    # tangent (-sin, cos) and normal (-cos, -sin) in the plane, up to signs
+    tw = [0.0, 0.0, 0.0]
+    nw = [0.0, 0.0, 0.0]
+    tw[a0], tw[a1] = _max_abs_sin(lo, hi), _max_abs_cos(lo, hi)
+    nw[a0], nw[a1] = tw[a1], tw[a0]
+    accel = ARC_TANGENTIAL_SHARE * _projected(amax, tw)
+    a_normal = (1.0 - ARC_TANGENTIAL_SHARE) * _projected(amax, nw)
+    v_limit = min(feed, _projected(vmax, tw), math.sqrt(a_normal * radius))
+    return Segment(m, length, v_limit, accel, dir_start, dir_end, radius, sweep)
+
+
+def junction_speed_sqr(u_in, u_out, machine: Machine) -> float:
+    """grbl's junction-deviation limit (mm^2/s^2) where a block ending in direction
+    ``u_in`` meets one starting in ``u_out`` (unit vectors); ``math.inf`` for a
+    straight junction.  Not yet capped by the blocks' own speed limits."""
+    cos_theta = -sum(a * b for a, b in zip(u_in, u_out))
+    if cos_theta > REVERSAL_COS:
+        return MINIMUM_JUNCTION_SPEED ** 2
+    if cos_theta < STRAIGHT_COS:
+        return math.inf
+    j = _unit(tuple(b - a for a, b in zip(u_in, u_out)))
+    a_j = _projected(machine.max_accel, tuple(abs(c) for c in j))
+    sin_half = math.sqrt(0.5 * (1.0 - cos_theta))
+    return max(MINIMUM_JUNCTION_SPEED ** 2,
+               a_j * machine.junction_deviation_mm * sin_half / (1.0 - sin_half))
+
+
+# --- planning ---------------------------------------------------------------------------------
+
+def plan(items, machine: Machine) -> list:
+    """Plan a program: ``items`` is a list of ``Move`` and ``Dwell`` in program order.
+    Returns a list of the same length and order, each ``Move`` replaced by its
+    ``Segment``, each ``Dwell`` kept."""
+    out: list = []
+    chain: list[Segment] = []           # segments of non-zero length, in order
+    stop_before: list[bool] = []        # junction before chain[i] is a stop (dwell)
+    zero_at: list[tuple[Segment, int]] = []   # zero-length segments, junction index
+    pending_stop = True                 # the program starts at rest
+    for item in items:
+        if isinstance(item, Dwell):
+            if not (item.seconds >= 0 and math.isfinite(item.seconds)):
+                raise GcodeError(item.lineno, f"dwell time must be >= 0 s, got {item.seconds!r}")
+            pending_stop = True
+            out.append(item)
+            continue
+        if not isinstance(item, Move):
+            raise TypeError(f"the planner takes Move and Dwell items, got {type(item).__name__}")
+        seg = _segment(item, machine)
+        out.append(seg)
+        if seg.length == 0.0:
+            zero_at.append((seg, len(chain)))
+            continue
+        chain.append(seg)
+        stop_before.append(pending_stop)
+        pending_stop = False
+    n = len(chain)
+    # max_e2[i]: largest entry speed^2 of chain[i]; e2[n] = 0, the program ends at rest
+    max_e2 = [0.0] * (n + 1)
+    for i, seg in enumerate(chain):
+        if stop_before[i]:
+            continue
+        prev = chain[i - 1]
+        lim = min(prev.v_limit, seg.v_limit) ** 2
+        max_e2[i] = min(lim, junction_speed_sqr(prev.dir_end, seg.dir_start, machine))
+    e2 = list(max_e2)
+    # backward pass (grbl planner_recalculate's reverse pass, over the whole program)
+    e2[n] = 0.0
+    for i in range(n - 1, -1, -1):
+        seg = chain[i]
+        e2[i] = min(max_e2[i], e2[i + 1] + 2.0 * seg.accel * seg.length)
+    # forward pass
+    for i in range(n):
+        seg = chain[i]
+        e2[i + 1] = min(e2[i + 1], e2[i] + 2.0 * seg.accel * seg.length)
+    for i, seg in enumerate(chain):
+        _profile(seg, e2[i], e2[i + 1])
+    for seg, j in zero_at:
+        v = math.sqrt(e2[j]) if j < n and not stop_before[j] else 0.0
+        seg.v_entry = seg.v_cruise = seg.v_exit = v
+    return out
+
+
+def _profile(seg: Segment, v0_sqr: float, v1_sqr: float) -> None:
+    """Fill in the trapezoid (or triangle) from the entry and exit speeds squared."""
+    a, length = seg.accel, seg.length
+    peak_sqr = 0.5 * (2.0 * a * length + v0_sqr + v1_sqr)
+    vc_sqr = max(min(seg.v_limit ** 2, peak_sqr), v0_sqr, v1_sqr)
+    v0, v1, vc = math.sqrt(v0_sqr), math.sqrt(v1_sqr), math.sqrt(vc_sqr)
+    d_accel = (vc_sqr - v0_sqr) / (2.0 * a)
+    d_decel = (vc_sqr - v1_sqr) / (2.0 * a)
+    d_cruise = length - d_accel - d_decel
+    if d_cruise < 0.0:                  # a triangle, off by rounding only
+        d_cruise = 0.0
+        d_decel = min(d_decel, length)
+        d_accel = length - d_decel
+    seg.v_entry, seg.v_cruise, seg.v_exit = v0, vc, v1
+    seg.t_accel = (vc - v0) / a
+    seg.t_decel = (vc - v1) / a
+    seg.t_cruise = d_cruise / vc if vc > 0.0 else 0.0
+    seg.d_accel = d_accel
+    seg.d_decel_start = length - d_decel
+
+
+def estimate_time(planned) -> float:
+    """Planned run time of a ``plan`` result, seconds (motion and dwells)."""
+    total = 0.0
+    for item in planned:
+        total += item.seconds if isinstance(item, Dwell) else item.duration
+    return total
+
+
+# --- core units -------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class CoreSegment:
+    """A planned segment in the motion core's units (floats; the fixed point is the
+    core's business).
+
+    ``unit_mm`` is the length of one path unit in mm, as the core's feed credit
+    counts it:
+    * arcs: one BLU (X and Y share it): an axis move costs 1, a diagonal move
+      sqrt(2).  The lattice path is up to 8 % longer than the true arc
+      (a + (sqrt(2) - 1) b per mm for tangent components a >= b), so the tool's
+      true speed along an arc is at most the planned one.
+    * lines (and rapids): one iteration of the line unit, which steps the longest
+      axis (in BLU) every iteration: Euclidean length / iteration count, the count
+      being max_k |delta_k| in BLU between the lattice points the quantiser uses.
+    ``units`` is the segment's length in path units; speeds are path units per
+    clock, ``accel`` path units per clock squared, ``decel_start`` in path units
+    from the start.  A line that does not leave its lattice point (0 iterations)
+    has ``unit_mm`` 0 and everything 0: the quantiser sends no command for it.
+    """
+
+    unit_mm: float
+    units: float
+    v_entry: float
+    v_cruise: float
+    v_exit: float
+    accel: float
+    decel_start: float
+    clocks: float                      # planned duration in clocks
+
+
+def line_iterations(start, end, blu) -> int:
+    """Iterations of the core's line unit between the lattice points nearest
+    ``start`` and ``end`` (mm): max_k |round(end_k / blu_k) - round(start_k / blu_k)|."""
+    return max(abs(round(e / b) - round(s / b)) for s, e, b in zip(start, end, blu))
+
+
+def to_core(seg: Segment, machine: Machine) -> CoreSegment:
+    """``seg`` in path units per clock and per clock squared (see ``CoreSegment``)."""
+    clock = float(machine.clock_hz)
+    if seg.kind == "arc":
+        bx, by = machine.axis("x").blu_mm, machine.axis("y").blu_mm
+        if bx != by:
+            raise MachineError("axis.y.blu_mm", f"{by:g} differs from axis.x.blu_mm {bx:g}; "
+                               f"the arc on line {seg.lineno} needs X and Y to share the BLU",
+                               machine.source)
+        unit = bx
+    else:
+        n = line_iterations(seg.move.start, seg.move.end, machine.blu)
+        if n == 0:
+            return CoreSegment(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+        unit = seg.length / n
+    per_clock = 1.0 / (unit * clock)
+    return CoreSegment(
+        unit_mm=unit,
+        units=seg.length / unit,
+        v_entry=seg.v_entry * per_clock,
+        v_cruise=seg.v_cruise * per_clock,
+        v_exit=seg.v_exit * per_clock,
+        accel=seg.accel * per_clock / clock,
+        decel_start=seg.d_decel_start / unit,
+        clocks=seg.duration * clock,
+    )
