@@ -374,6 +374,38 @@ def test_two_thousand_tiny_collinear_segments_cruise_at_feed():
     assert estimate_time(planned) == pytest.approx(length / v + v / a, rel=1e-6)
 
 
+def test_tiny_chords_round_a_tight_curve_are_held_to_its_centripetal_limit():
+    """Chords of 0.05 mm round a 1 mm circle at F6000: grbl's junction deviation alone
+    would allow about sqrt(8 a delta R^2 / c^2) = 179 mm/s at each 2.9-degree turn;
+    Klipper's cap (the cornering circle touches both chords at their middles, which is
+    the polygon's incircle, radius R cos(turn/2)) holds the junction speed to that
+    circle's centripetal limit with the axes' acceleration in the turn's direction."""
+    a, radius, n = 1000.0, 1.0, 126
+    m = machine(acc=(a, a, 500.0))
+    pts = [(radius * math.cos(2 * math.pi * k / n), radius * math.sin(2 * math.pi * k / n), 0.0)
+           for k in range(n + 1)]
+    items = [line(pts[k], pts[k + 1], f=6000, n=k + 1) for k in range(n)]
+    planned = plan(items, m)
+    check_plan(items, planned, m)
+    turn = 2 * math.pi / n
+    r_in = radius * math.cos(turn / 2)
+    for k in range(n - 1):
+        u_in = np.subtract(pts[k + 1], pts[k])
+        u_out = np.subtract(pts[k + 2], pts[k + 1])
+        u_in, u_out = u_in / np.linalg.norm(u_in), u_out / np.linalg.norm(u_out)
+        j = (u_out - u_in) / np.linalg.norm(u_out - u_in)
+        a_j = min(a / abs(c) for c in j[:2] if abs(c) > 1e-12)
+        v2 = planned[k].v_exit ** 2
+        assert v2 <= a_j * r_in * (1 + 1e-9)
+        # and each axis's centripetal acceleration on that circle is within its limit
+        assert v2 / r_in * np.max(np.abs(j[:2])) <= a * (1 + 1e-9)
+    # away from the start and the stop the chain runs at that limit, not slower
+    assert planned[n // 2].v_exit ** 2 == pytest.approx(
+        min(a / abs(c) for c in (math.cos(math.pi + turn * (n // 2 + 1)),
+                                 math.sin(math.pi + turn * (n // 2 + 1))) if abs(c) > 1e-12)
+        * r_in, rel=1e-6)
+
+
 def test_program_starts_and_ends_at_rest_and_dwells_stay_in_order():
     m = machine()
     items = [rapid((0, 0, 0), (10, 0, 5), n=1),

@@ -33,8 +33,11 @@ Rules:
   ``junction_unit_vec``) and delta is ``planner.junction_deviation_mm``.  A
   straight junction (cos < -0.999999) is limited only by the blocks' speeds,
   a reversal (cos > 0.999999) is a stop (grbl's MINIMUM_JUNCTION_SPEED, 0).
-  An arc meets its neighbours with its tangent at its ends.  The entry speed is
-  at most the smaller speed limit of the two blocks.
+  An arc meets its neighbours with its tangent at its ends.  Klipper's extra cap
+  applies too: v^2 <= a_j * 0.5 * length * tan(theta/2) for both blocks (the
+  cornering circle touches each block no further than its middle), so tiny
+  chords round a tight curve run no faster than the curve allows.  The entry
+  speed is at most the smaller speed limit of the two blocks.
 * **Lookahead over the whole program**: the backward pass (the program ends
   at rest; each entry speed at most what decelerating over the block reaches)
   and the forward pass (each exit speed at most what accelerating over the
@@ -237,10 +240,22 @@ def _segment(m: Move, machine: Machine) -> Segment:
     return Segment(m, length, v_limit, accel, dir_start, dir_end, radius, sweep)
 
 
-def junction_speed_sqr(u_in, u_out, machine: Machine) -> float:
-    """grbl's junction-deviation limit (mm^2/s^2) where a block ending in direction
-    ``u_in`` meets one starting in ``u_out`` (unit vectors); ``math.inf`` for a
-    straight junction.  Not yet capped by the blocks' own speed limits."""
+def junction_speed_sqr(u_in, u_out, machine: Machine, len_in: float = math.inf,
+                      len_out: float = math.inf) -> float:
+    """Largest speed^2 (mm^2/s^2) where a block ending in direction ``u_in`` meets one
+    starting in ``u_out`` (unit vectors), before the blocks' own speed limits.
+
+    grbl's junction deviation: v^2 = a_j * delta * sin(theta/2) / (1 - sin(theta/2));
+    ``math.inf`` for a straight junction, 0 for a reversal.  With the blocks' lengths
+    ``len_in`` and ``len_out`` also Klipper's cap (``Move.calc_junction``,
+    ``move_centripetal_v2``): the circle that gives the cornering speed must touch
+    both blocks no further than their middles, radius 0.5 * length * tan(theta/2), so
+    v^2 <= a_j * 0.5 * length * tan(theta/2) for each block.  Without it a chain of tiny
+    chords round a tight curve would be planned faster than the axes can turn it
+    (grbl's formula alone allows about 8 a delta R^2 / c^2 for chords c on radius R);
+    with it such a chain is held to about a_j * R, the arc's centripetal limit.  Klipper
+    uses each block's acceleration; here a_j, the axes' limit in the direction of the
+    velocity change, which is the one that acts on that circle."""
     cos_theta = -sum(a * b for a, b in zip(u_in, u_out))
     if cos_theta > REVERSAL_COS:
         return MINIMUM_JUNCTION_SPEED ** 2
@@ -249,8 +264,10 @@ def junction_speed_sqr(u_in, u_out, machine: Machine) -> float:
     j = _unit(tuple(b - a for a, b in zip(u_in, u_out)))
     a_j = _projected(machine.max_accel, tuple(abs(c) for c in j))
     sin_half = math.sqrt(0.5 * (1.0 - cos_theta))
-    return max(MINIMUM_JUNCTION_SPEED ** 2,
-               a_j * machine.junction_deviation_mm * sin_half / (1.0 - sin_half))
+    tan_half = sin_half / math.sqrt(0.5 * (1.0 + cos_theta))
+    v2 = a_j * machine.junction_deviation_mm * sin_half / (1.0 - sin_half)
+    v2 = min(v2, a_j * 0.5 * min(len_in, len_out) * tan_half)
+    return max(MINIMUM_JUNCTION_SPEED ** 2, v2)
 
 
 # --- planning ---------------------------------------------------------------------------------
@@ -289,7 +306,8 @@ def plan(items, machine: Machine) -> list:
             continue
         prev = chain[i - 1]
         lim = min(prev.v_limit, seg.v_limit) ** 2
-        max_e2[i] = min(lim, junction_speed_sqr(prev.dir_end, seg.dir_start, machine))
+        max_e2[i] = min(lim, junction_speed_sqr(prev.dir_end, seg.dir_start, machine,
+                                                 prev.length, seg.length))
     e2 = list(max_e2)
     # backward pass (grbl planner_recalculate's reverse pass, over the whole program)
     e2[n] = 0.0
