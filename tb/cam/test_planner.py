@@ -168,6 +168,13 @@ def test_single_line_is_the_closed_form_trapezoid():
     assert s.d_decel_start == pytest.approx(length - v * v / (2 * a), rel=REL)
     assert s.t_cruise == pytest.approx((length - v * v / a) / v, rel=REL)   # 1.95 s
     assert estimate_time([s]) == pytest.approx(length / v + v / a, rel=REL)  # 2.05 s
+    # the profile as functions of time: s(t) = a t^2 / 2 while accelerating, ...
+    assert s.distance_at(0.02) == pytest.approx(0.5 * a * 0.02 ** 2, rel=REL)
+    assert s.speed_at(0.02) == pytest.approx(a * 0.02, rel=REL)
+    assert s.distance_at(1.0) == pytest.approx(v * v / (2 * a) + v * (1.0 - v / a), rel=REL)
+    assert s.speed_at(2.04) == pytest.approx(a * 0.01, rel=1e-6)
+    assert s.distance_at(2.04) == pytest.approx(length - 0.5 * a * 0.01 ** 2, rel=REL)
+    assert s.distance_at(99.0) == length and s.speed_at(99.0) == 0.0
 
 
 @pytest.mark.parametrize("length", [0.001, 0.1, 1.0, 2.4])

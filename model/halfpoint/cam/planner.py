@@ -136,7 +136,7 @@ class Segment:
         t -= self.t_accel
         if t <= self.t_cruise:
             return self.v_cruise
-        return max(self.v_cruise - self.accel * (t - self.t_cruise), 0.0)
+        return self.v_exit + self.accel * max(self.t_decel - (t - self.t_cruise), 0.0)
 
     def distance_at(self, t: float) -> float:
         """Path distance (mm) covered ``t`` seconds after the segment started."""
