@@ -130,13 +130,13 @@ class Segment:
 
     def speed_at(self, t: float) -> float:
         """Path speed (mm/s) ``t`` seconds after the segment started (clamped to it)."""
-        t = min(max(t, 0.0), self.duration)
+        end = self.duration
+        t = min(max(t, 0.0), end)
         if t <= self.t_accel:
             return self.v_entry + self.accel * t
-        t -= self.t_accel
-        if t <= self.t_cruise:
+        if t <= self.t_accel + self.t_cruise:
             return self.v_cruise
-        return self.v_exit + self.accel * max(self.t_decel - (t - self.t_cruise), 0.0)
+        return self.v_exit + self.accel * (end - t)
 
     def distance_at(self, t: float) -> float:
         """Path distance (mm) covered ``t`` seconds after the segment started."""
