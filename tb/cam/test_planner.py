@@ -348,6 +348,19 @@ def test_large_arc_runs_at_feed_and_short_arc_uses_only_its_swept_angles():
     assert s.v_limit == pytest.approx(min(100.0, 20.0 / math.sin(math.radians(10))), rel=REL)
 
 
+def test_arcs_in_other_planes_take_those_axes_limits():
+    # G18: a half circle in XZ about (x 1, z 0), R 1; Z is the slow axis
+    m = machine(vel=(100.0, 100.0, 10.0), acc=(1000.0, 1000.0, 100.0))
+    prog = parse("G21 G18 G2 X2 Z0 I1 K0 F6000\nM2")
+    (s,) = plan(prog.moves, m)
+    assert s.length == pytest.approx(math.pi, rel=REL)
+    # the half circle passes through both the X and Z directions: Z's limits bind
+    assert s.v_limit == pytest.approx(min(10.0, math.sqrt((1 - ARC_TANGENTIAL_SHARE) * 100.0)),
+                                      rel=REL)
+    assert s.accel == pytest.approx(ARC_TANGENTIAL_SHARE * 100.0, rel=REL)
+    assert s.dir_start[1] == 0.0 and abs(s.dir_start[2]) == pytest.approx(1.0)
+
+
 # --- lookahead --------------------------------------------------------------------------------
 
 def test_two_thousand_tiny_collinear_segments_cruise_at_feed():
