@@ -19,7 +19,8 @@
 // enters the run stage at the clock edge of the previous arc's last move, or
 // at once when the run stage is idle.  The sequencing outputs (running,
 // loading, ending, nx_*) are combinational views of the run stage for a
-// motion core that paces `en` and orders segments across units.  The validator rejects (reject pulse, err_code, no move):
+// motion core that paces `en` and orders segments across units.  The
+// validator rejects (reject pulse, err_code, no move):
 //   1 radius zero, 2 circle does not fit W bits (R^2 > (M-1)(M-2), M=2^(W-1)),
 //   3 end point off the circle: |xe^2+ye^2-R^2| > 2*max(|xs|,|ys|).
 //
@@ -194,7 +195,8 @@ module halfpoint_arc #(
 
     // INIT-stage: armed flag from the progress order
     wire           init_oct1  = (p_ve_q <= p_ue_q);
-    wire           init_before = init_oct1 ? ((p_v_q < p_ve_q) || (p_v_q == p_ve_q && p_u_q > p_ue_q))
+    wire           init_before = init_oct1
+                                     ? ((p_v_q < p_ve_q) || (p_v_q == p_ve_q && p_u_q > p_ue_q))
                                      : ((p_u_q > p_ue_q) || (p_u_q == p_ue_q && p_v_q < p_ve_q));
     wire [DW-1:0]  iu = {2'b00, p_u_q};
     wire [DW-1:0]  iv = {2'b00, p_v_q};
@@ -450,7 +452,8 @@ module halfpoint_arc #(
             ue1_q <= p_ue1_q; ve0_q <= p_ve0_q;
             oct1_q <= p_oct1_q; armed_q <= p_armed_q;
             ue2_q  <= p_ue1_q + ONE_W;  uem2_q <= p_uem1_q - ONE_W;  vem2_q <= p_vem1_q - ONE_W;
-            ve1_q  <= (p_ve_q == ONE_W);  ue0_q <= (p_ue_q == {W{1'b0}});  ueone_q <= (p_ue_q == ONE_W);
+            ve1_q  <= (p_ve_q == ONE_W);  ue0_q <= (p_ue_q == {W{1'b0}});
+            ueone_q <= (p_ue_q == ONE_W);
             u_one_q    <= (p_u_q == ONE_W);
             f_v_gt_ve  <= (p_v_q > p_ve_q);
             f_v_eq_ve  <= (p_v_q == p_ve_q);

@@ -56,7 +56,7 @@ module halfpoint_line #(
     output reg                reject,
     output reg  [1:0]         err_code,
     // sequencing (for the motion core; tie start_en high when used alone)
-    input  wire               abort_now,      // drop the running, pending and validated segments now
+    input  wire               abort_now,  // drop the running, pending and validated segments
     input  wire               start_en,   // the pending segment may enter the run stage
     output wire               running,    // a segment is in the run stage
     output wire               loading,    // the pending segment enters the run stage at this edge

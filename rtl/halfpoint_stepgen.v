@@ -14,7 +14,8 @@
 // Handshake: ready_pos / ready_neg say whether a request in that direction
 // is taken at this clock edge (they depend only on registers: the
 // comparisons of the inactive time with stepspace and dirhold are registered,
-// made at each edge with that clock's settings).  The requester asserts req (with req_dir, 1 = positive) only
+// made at each edge with that clock's settings).  The requester asserts req
+// (with req_dir, 1 = positive) only
 // when the matching ready is high and holds its interpolator back otherwise,
 // so no step is dropped or merged.  A request in the same direction makes
 // STEP active from the next clock; one in the other direction changes DIR at

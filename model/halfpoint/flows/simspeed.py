@@ -85,7 +85,8 @@ def compiled_speed(repeats: int = 200, seed: int = 1) -> dict:
     binary = work / "obj" / "Vhalfpoint_core"
     cmd = [str(exe), "--cc", "--exe", "--build", "-O3", "-j", "2", "--top-module", "halfpoint_core",
            "-GNA=3", "-GW=32", "-GDEPTH=16", "-GTW=16", "-Wno-fatal", "-Mdir", str(work / "obj"),
-           "-CFLAGS", "-O2", str(REPO / "tb" / "halfpoint_core" / "speed_harness.cpp"),
+           "-CFLAGS", "-O2", f"-I{REPO / 'rtl'}",
+           str(REPO / "tb" / "halfpoint_core" / "speed_harness.cpp"),
            *(str(p) for p in rtl_sources(*CORE_SOURCES))]
     log = work / "build.log"
     t0 = time.monotonic()

@@ -64,6 +64,7 @@ def run_cocotb(
         build_dir.mkdir(parents=True, exist_ok=True)
     runner.build(
         sources=sources,
+        includes=[RTL],             # rtl/halfpoint_cmd.vh, the generated command layout
         hdl_toplevel=toplevel,
         parameters=parameters,
         build_dir=build_dir,

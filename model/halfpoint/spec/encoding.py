@@ -38,7 +38,9 @@ OPCODE_MASK = 0xF
 RATE_FRAC_BITS = 24
 RATE_ONE = 1 << RATE_FRAC_BITS          # 1 BLU per clock
 
-# error codes of the core (err_code output)
+# error codes of the core (err_code output, ERR_CODE_BITS wide; also bits 3:0 of
+# the serial port's acknowledge byte)
+ERR_CODE_BITS = 4
 E_NONE = 0
 E_OPCODE = 1        # unknown opcode or reserved bits set
 E_FIELD = 2         # a coordinate does not fit the core's width

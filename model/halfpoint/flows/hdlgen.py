@@ -1,0 +1,231 @@
+# SPDX-License-Identifier: Apache-2.0
+"""``python -m halfpoint.flows.hdlgen``: the Verilog header of the command
+encoding, rtl/halfpoint_cmd.vh, generated from ``halfpoint.spec.encoding``.
+
+``halfpoint.spec.encoding`` is the one definition of the motion core's
+command layout.  This module derives every field's position from it (by
+encoding commands that differ in one field only, so the positions are those
+the host encoder really writes) and writes them, with the opcodes, the CONT
+flag, the reserved bits and the core's error codes, as Verilog macros that
+the RTL includes.  Each macro is ``HALFPOINT_`` followed by the name of the
+constant in ``encoding`` (``HALFPOINT_OP_LINE``, ``HALFPOINT_E_FIELD``), or by
+``CMD_<field>_LSB`` / ``CMD_<field>_WIDTH`` for a field's bits.
+
+    python -m halfpoint.flows.hdlgen            write rtl/halfpoint_cmd.vh
+    python -m halfpoint.flows.hdlgen --check    exit 1 if it is not current
+
+``make lint`` runs the check, and tb/flows/test_hdlgen.py tests both the
+header's currency and that the RTL decodes through it.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+from types import ModuleType
+
+from ..sim.env import RTL
+from ..spec import encoding
+
+HEADER = RTL / "halfpoint_cmd.vh"
+PREFIX = "HALFPOINT_"
+GUARD = PREFIX + "CMD_VH"
+
+
+@dataclass(frozen=True)
+class Define:
+    """One macro: `define <name> <value>, with a comment line above it.
+    A Define with an empty name is a section comment only."""
+    name: str
+    value: str
+    doc: str
+
+
+def bit_run(mask: int, what: str) -> tuple[int, int]:
+    """(lsb, width) of a mask that must be one contiguous run of ones."""
+    if mask <= 0:
+        raise ValueError(f"{what}: the encoder sets no bit for it")
+    lsb = (mask & -mask).bit_length() - 1
+    width = (mask >> lsb).bit_length()
+    if mask != ((1 << width) - 1) << lsb:
+        raise ValueError(f"{what}: bits {mask:#x} are not one contiguous field")
+    return lsb, width
+
+
+def field_bits(a: int, b: int, what: str) -> tuple[int, int]:
+    """(lsb, width) of the field in which two encoded commands differ."""
+    return bit_run(a ^ b, what)
+
+
+def sized(width: int, value: int) -> str:
+    return f"{width}'d{value}"
+
+
+def defines(enc: ModuleType = encoding) -> list[Define]:
+    """The header's macros, derived from the encoding module ``enc``."""
+    bits = enc.CMD_BITS
+    one = enc.RATE_ONE
+    full = (1 << 32) - 1
+
+    # word 0: opcode and CONT
+    op_lsb, op_width = bit_run(enc.OPCODE_MASK, "opcode")
+    line0 = enc.encode_line([0], rate=one)
+    if (line0 >> op_lsb) & enc.OPCODE_MASK != enc.OP_LINE:
+        raise ValueError("the encoder does not put OP_LINE into the opcode bits")
+    cont_lsb, cont_width = field_bits(enc.encode_line([0], rate=one, cont=True), line0, "CONT")
+    if cont_width != 1 or enc.FLAG_CONT != 1 << cont_lsb:
+        raise ValueError("CONT is not the single bit FLAG_CONT")
+
+    # rate and the line deltas
+    rate = field_bits(enc.encode_line([0], rate=0), enc.encode_line([0], rate=full), "rate")
+    zeros = enc.encode_line([0] * enc.MAX_AXES, rate=one)
+    deltas = []
+    for k in range(enc.MAX_AXES):
+        marked = [0] * enc.MAX_AXES
+        marked[k] = -1
+        deltas.append(field_bits(enc.encode_line(marked, rate=one), zeros, f"delta {k}"))
+    stride = deltas[1][0] - deltas[0][0] if len(deltas) > 1 else deltas[0][1]
+    for k, (lsb, width) in enumerate(deltas):
+        if lsb != deltas[0][0] + k * stride or width != deltas[0][1]:
+            raise ValueError("the line deltas are not evenly spaced fields of one width")
+
+    # arc coordinates
+    arc0 = enc.encode_arc(0, 0, 0, 0, 0, rate=one)
+    coords = {}
+    for n, name in enumerate("IJXY"):
+        args = [0, 0, 0, 0]
+        args[n] = -1
+        coords[name] = field_bits(enc.encode_arc(0, *args, rate=one), arc0, f"arc {name}")
+    cw = field_bits(enc.encode_arc(1, 0, 0, 0, 0, rate=one), arc0, "arc direction")
+    if cw[0] < op_lsb or cw[0] + cw[1] > op_lsb + op_width:
+        raise ValueError("the arc's direction is not carried by the opcode")
+
+    # reserved bits: everything a command of the kind does not use
+    def mask(lsb: int, width: int) -> int:
+        return ((1 << width) - 1) << lsb
+    all_bits = (1 << bits) - 1
+    common = mask(op_lsb, op_width) | enc.FLAG_CONT | mask(*rate)
+    line_used = common
+    for d in deltas:
+        line_used |= mask(*d)
+    arc_used = common
+    for c in coords.values():
+        arc_used |= mask(*c)
+    digits = (bits + 3) // 4
+
+    errors = sorted((v, n) for n, v in vars(enc).items()
+                    if n.startswith("E_") and isinstance(v, int))
+    if max(v for v, _ in errors) >= 1 << enc.ERR_CODE_BITS:
+        raise ValueError("an error code does not fit ERR_CODE_BITS")
+
+    out = [
+        Define("", "", "command: one beat of the AXI4-Stream input, little-endian 32-bit words"),
+        Define("CMD_BITS", str(bits), "bits of a command"),
+        Define("MAX_AXES", str(enc.MAX_AXES), "axes a line command can move"),
+        Define("", "", "word 0: opcode and flags"),
+        Define("CMD_OPCODE_LSB", str(op_lsb), "opcode field"),
+        Define("CMD_OPCODE_WIDTH", str(op_width), ""),
+        Define("OP_LINE", sized(op_width, enc.OP_LINE), "straight line, every axis"),
+        Define("OP_ARC_CW", sized(op_width, enc.OP_ARC_CW), "arc in the XY plane, clockwise (G2)"),
+        Define("OP_ARC_CCW", sized(op_width, enc.OP_ARC_CCW),
+               "arc in the XY plane, counter-clockwise (G3)"),
+        Define("FLAG_CONT_BIT", str(cont_lsb),
+               "CONT: more segments of this program follow (for the underrun flag)"),
+        Define("", "", "feed rate, unsigned, BLU per clock x 2^RATE_FRAC_BITS"),
+        Define("CMD_RATE_LSB", str(rate[0]), ""),
+        Define("CMD_RATE_WIDTH", str(rate[1]), ""),
+        Define("RATE_FRAC_BITS", str(enc.RATE_FRAC_BITS), ""),
+        Define("", "", "line: signed delta of axis k in bits "
+               "CMD_DELTA_LSB + k * CMD_DELTA_STRIDE +: CMD_DELTA_WIDTH"),
+        Define("CMD_DELTA_LSB", str(deltas[0][0]), ""),
+        Define("CMD_DELTA_STRIDE", str(stride), ""),
+        Define("CMD_DELTA_WIDTH", str(deltas[0][1]), ""),
+        Define("", "", "arc: I, J = centre minus the current position; "
+               "X, Y = end minus it (signed)"),
+    ]
+    for name, (lsb, width) in coords.items():
+        out += [Define(f"CMD_ARC_{name}_LSB", str(lsb), ""),
+                Define(f"CMD_ARC_{name}_WIDTH", str(width), "")]
+    out += [
+        Define("", "", "reserved bits (must be zero, else the command is rejected, E_OPCODE)"),
+        Define("CMD_RESERVED_LINE", f"{bits}'h{all_bits & ~line_used:0{digits}x}",
+               "of a line command (deltas of axes the core does not have are checked too)"),
+        Define("CMD_RESERVED_ARC", f"{bits}'h{all_bits & ~arc_used:0{digits}x}",
+               "of an arc command"),
+        Define("", "", "error codes of the core (err_code output)"),
+        Define("ERR_CODE_BITS", str(enc.ERR_CODE_BITS), ""),
+    ]
+    for value, name in errors:
+        out.append(Define(name, sized(enc.ERR_CODE_BITS, value), enc.ERR_TEXT[value]))
+    return out
+
+
+def render(items: list[Define]) -> str:
+    """The header's text."""
+    lines = [
+        "// SPDX-License-Identifier: Apache-2.0",
+        "// " + "=" * 76,
+        "// halfpoint_cmd.vh: the motion core's command layout and error codes",
+        "// " + "=" * 76,
+        "// GENERATED by `python -m halfpoint.flows.hdlgen` from",
+        "// model/halfpoint/spec/encoding.py, the one definition of the encoding.  Do not",
+        "// edit: change encoding.py and run the generator; `make lint` and `make test`",
+        "// fail while this file differs from what the generator writes.",
+        "//",
+        "// Macros only (no module, no `default_nettype change): include it at the top",
+        "// of a file, before the module.  Each macro is HALFPOINT_ and the name of the",
+        "// constant in encoding.py, or CMD_<field>_LSB / _WIDTH for a field's bits.",
+        "// " + "=" * 76,
+        f"`ifndef {GUARD}",
+        f"`define {GUARD}",
+    ]
+    width = max(len(PREFIX + d.name) for d in items if d.name)
+    for d in items:
+        if not d.name:
+            lines += ["", f"// {d.doc}"]
+            continue
+        if d.doc:
+            lines.append(f"//   {d.doc}")
+        line = f"`define {PREFIX + d.name:<{width}} {d.value}"
+        if len(line) > 100:     # a wide mask: continue the macro on the next line
+            line = f"`define {PREFIX + d.name} \\\n    {d.value}"
+        lines.append(line)
+    lines += ["", f"`endif  // {GUARD}", ""]
+    text = "\n".join(lines)
+    for n, line in enumerate(text.splitlines(), 1):
+        if len(line) > 100:
+            raise ValueError(f"generated header line {n} is longer than 100 characters")
+    return text
+
+
+def generate(enc: ModuleType = encoding) -> str:
+    return render(defines(enc))
+
+
+def is_current(path: Path = HEADER) -> bool:
+    return path.exists() and path.read_text() == generate()
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(prog="python -m halfpoint.flows.hdlgen", description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--check", action="store_true",
+                    help="do not write; exit 1 if the header is not what would be written")
+    ap.add_argument("--out", type=Path, default=HEADER, help=f"header path (default {HEADER})")
+    args = ap.parse_args(argv)
+    if args.check:
+        if is_current(args.out):
+            print(f"hdlgen ok   {args.out} is current")
+            return 0
+        print(f"hdlgen FAIL {args.out} is not what halfpoint.spec.encoding gives: "
+              "run `python -m halfpoint.flows.hdlgen`")
+        return 1
+    args.out.write_text(generate())
+    print(f"hdlgen wrote {args.out}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
