@@ -26,6 +26,7 @@ from halfpoint.cam.gcode import GcodeError, Move, parse
 from halfpoint.cam.machine import MachineError, from_dict
 from halfpoint.cam.planner import (ARC_TANGENTIAL_SHARE, Dwell, Segment, estimate_time,
                                    line_iterations, plan, to_core)
+from halfpoint.spec.arc import arc_points, lattice_point_near
 
 REL = 1e-9
 
@@ -529,17 +530,22 @@ def test_core_units_for_lines_are_iterations_and_for_arcs_blu():
     c = to_core(lin, m)
     assert line_iterations(lin.move.start, lin.move.end, m.blu) == 4000
     assert c.unit_mm == pytest.approx(5.0 / 4000, rel=REL)            # 1.25 um per iteration
-    assert c.units == pytest.approx(4000, rel=REL)
+    assert c.units == 4000
     assert c.v_cruise == pytest.approx(lin.v_cruise / (5.0 / 4000) / 50e6, rel=REL)
     assert c.accel == pytest.approx(lin.accel / (5.0 / 4000) / 50e6 ** 2, rel=REL)
     # accelerating at c.accel per clock^2 for t_accel clocks reaches the cruise rate
     t_clocks = lin.t_accel * 50e6
     assert c.v_entry + c.accel * t_clocks == pytest.approx(c.v_cruise, rel=1e-9)
-    assert c.clocks == pytest.approx(lin.duration * 50e6, rel=REL)
+    assert c.clocks == pytest.approx(lin.duration * 50e6, rel=1e-9)
+    assert c.decel_start == pytest.approx(lin.d_decel_start / c.unit_mm, rel=1e-9)
     k = to_core(circ, m)
     assert k.unit_mm == 0.001
     assert k.v_cruise * 0.001 * 50e6 == pytest.approx(circ.v_cruise, rel=REL)
-    assert k.units == pytest.approx(2 * math.pi * 5 / 0.001, rel=REL)
+    assert k.units == pytest.approx(16 * (math.sqrt(2) - 1) * 5000, rel=REL)   # 6.627 R
+    # the credit trapezoid: ends at v_exit exactly at units, longer than the true arc
+    assert k.decel_start == pytest.approx(
+        k.units - (k.v_cruise ** 2 - k.v_exit ** 2) / (2 * k.accel), rel=1e-12)
+    assert k.clocks > circ.duration * 50e6
     # a line that stays on its lattice point has no core motion
     tiny = plan([line((0, 0, 0), (0.0004, 0, 0))], m)[0]
     assert to_core(tiny, m).units == 0.0
@@ -547,3 +553,34 @@ def test_core_units_for_lines_are_iterations_and_for_arcs_blu():
     m2 = machine(blu_y=0.002)
     with pytest.raises(MachineError, match=r"axis\.y\.blu_mm.*line 1"):
         to_core(plan(items, m2)[1], m2)
+
+
+@pytest.mark.parametrize("radius, deg0, deg1, cw", [
+    (3000, 0, 0, 1),                 # full circle from an axis
+    (3000, 45, 165, 0),              # from 45 degrees, CCW across a quadrant boundary
+    (4123, -76, 0, 0),               # short arc
+    (2600, 105, 16, 1),              # CW across the axis
+    (777, 10, 350, 0),               # almost a full turn
+])
+def test_arc_credit_length_matches_the_arc_models_lattice_moves(radius, deg0, deg1, cw):
+    """The core spends 1 per axis move and sqrt(2) per diagonal move; the planner's
+    lattice length of an arc must agree with the moves the bit-exact arc model makes."""
+    xs = round(radius * math.cos(math.radians(deg0)))
+    ys = round(radius * math.sin(math.radians(deg0)))
+    if deg0 == deg1:
+        xe, ye = xs, ys
+    else:
+        xe, ye = lattice_point_near(xs * xs + ys * ys, math.radians(deg1))
+    pts = arc_points(xs, ys, xe, ye, cw)
+    credit = sum(math.sqrt(2) if (b[0] != a[0] and b[1] != a[1]) else 1.0
+                 for a, b in zip(pts, pts[1:]))
+    blu = 0.001
+    r = math.hypot(xs, ys) * blu
+    start, end = (xs * blu, ys * blu, 0.0), (xe * blu, ye * blu, 0.0)
+    m = machine()
+    (s,) = plan([arc(start, end, (0.0, 0.0), cw=bool(cw), f=600)], m)
+    assert s.radius == pytest.approx(r, rel=REL)
+    k = to_core(s, m)
+    # within a couple of moves (the model stops at the lattice point nearest the end)
+    assert k.units == pytest.approx(credit, abs=3.0)
+    assert abs(k.units - credit) / credit < 2e-3

@@ -364,17 +364,31 @@ class CoreSegment:
 
     ``unit_mm`` is the length of one path unit in mm, as the core's feed credit
     counts it:
-    * arcs: one BLU (X and Y share it): an axis move costs 1, a diagonal move
-      sqrt(2).  The lattice path is up to 8 % longer than the true arc
-      (a + (sqrt(2) - 1) b per mm for tangent components a >= b), so the tool's
-      true speed along an arc is at most the planned one.
+
     * lines (and rapids): one iteration of the line unit, which steps the longest
       axis (in BLU) every iteration: Euclidean length / iteration count, the count
       being max_k |delta_k| in BLU between the lattice points the quantiser uses.
-    ``units`` is the segment's length in path units; speeds are path units per
-    clock, ``accel`` path units per clock squared, ``decel_start`` in path units
-    from the start.  A line that does not leave its lattice point (0 iterations)
-    has ``unit_mm`` 0 and everything 0: the quantiser sends no command for it.
+      The credit path is the line itself: ``units`` = the iteration count.
+    * arcs: one BLU (X and Y share it): an axis move costs 1, a diagonal move
+      sqrt(2).  The credit path is the *lattice* path, which is longer than the
+      arc: per mm of arc with tangent components a >= b (in BLU) the lattice
+      makes a axis-or-diagonal moves, b of them diagonal, costing
+      a + (sqrt(2) - 1) b, between 1 (along an axis or a diagonal) and 1.0824
+      (at 22.5 degrees); a full circle costs 16 (sqrt(2) - 1) R = 6.627 R
+      instead of 2 pi R = 6.283 R.  ``units`` is that lattice length,
+      ``lattice_arc_length`` (held to the arc model's real moves by a test).
+      Speeds are converted with unit_mm = 1 BLU, so the tool's true speed along
+      the arc is the planned speed divided by that local cost: never faster than
+      planned, up to 7.6 % slower, and the arc takes longer than ``Segment.duration``
+      (5.5 % over a full circle; ``clocks`` counts it).
+
+    Speeds are path units per clock, ``accel`` path units per clock squared,
+    ``decel_start`` the credit position (path units from the start) where
+    deceleration must begin to reach ``v_exit`` at the end of ``units``:
+    units - (v_cruise^2 - v_exit^2) / (2 accel).  ``clocks`` is the duration of
+    that trapezoid in clocks.  A line that does not leave its lattice point (0
+    iterations) has ``unit_mm`` 0 and everything 0: the quantiser sends no
+    command for it.
     """
 
     unit_mm: float
@@ -384,13 +398,41 @@ class CoreSegment:
     v_exit: float
     accel: float
     decel_start: float
-    clocks: float                      # planned duration in clocks
+    clocks: float
 
 
 def line_iterations(start, end, blu) -> int:
     """Iterations of the core's line unit between the lattice points nearest
     ``start`` and ``end`` (mm): max_k |round(end_k / blu_k) - round(start_k / blu_k)|."""
     return max(abs(round(e / b) - round(s / b)) for s, e, b in zip(start, end, blu))
+
+
+_DIAGONAL_EXTRA = math.sqrt(2.0) - 1.0
+
+
+def lattice_arc_length(radius: float, phi0: float, sweep: float) -> float:
+    """Length of the core's lattice path along an arc, in the units of ``radius``
+    (axis moves 1, diagonal moves sqrt(2)): radius times the integral over the
+    swept angles of max(|cos|, |sin|) + (sqrt(2) - 1) min(|cos|, |sin|), exact
+    piece by piece between multiples of 45 degrees."""
+    lo, hi = sorted((phi0, phi0 + sweep))
+    eighth = math.pi / 4
+    total, a = 0.0, lo
+    while a < hi:
+        k = math.floor(a / eighth) + 1
+        b = k * eighth
+        if b <= a:
+            b = (k + 1) * eighth
+        b = min(b, hi)
+        mid = 0.5 * (a + b)
+        c, s = math.cos(mid), math.sin(mid)
+        if abs(c) >= abs(s):
+            alpha, beta = math.copysign(1.0, c), math.copysign(_DIAGONAL_EXTRA, s)
+        else:
+            alpha, beta = math.copysign(_DIAGONAL_EXTRA, c), math.copysign(1.0, s)
+        total += alpha * (math.sin(b) - math.sin(a)) - beta * (math.cos(b) - math.cos(a))
+        a = b
+    return radius * total
 
 
 def to_core(seg: Segment, machine: Machine) -> CoreSegment:
@@ -403,19 +445,26 @@ def to_core(seg: Segment, machine: Machine) -> CoreSegment:
                                f"the arc on line {seg.lineno} needs X and Y to share the BLU",
                                machine.source)
         unit = bx
+        m = seg.move
+        a0, a1, _ = PLANE_AXES[m.plane]
+        phi0 = math.atan2(m.start[a1] - m.center[1], m.start[a0] - m.center[0])
+        units = lattice_arc_length(seg.radius / unit, phi0, seg.sweep)
     else:
         n = line_iterations(seg.move.start, seg.move.end, machine.blu)
         if n == 0:
             return CoreSegment(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
         unit = seg.length / n
+        units = float(n)
     per_clock = 1.0 / (unit * clock)
-    return CoreSegment(
-        unit_mm=unit,
-        units=seg.length / unit,
-        v_entry=seg.v_entry * per_clock,
-        v_cruise=seg.v_cruise * per_clock,
-        v_exit=seg.v_exit * per_clock,
-        accel=seg.accel * per_clock / clock,
-        decel_start=seg.d_decel_start / unit,
-        clocks=seg.duration * clock,
-    )
+    v0, vc, v1 = seg.v_entry * per_clock, seg.v_cruise * per_clock, seg.v_exit * per_clock
+    accel = seg.accel * per_clock / clock
+    if accel > 0.0:
+        d_accel = (vc * vc - v0 * v0) / (2.0 * accel)
+        d_decel = (vc * vc - v1 * v1) / (2.0 * accel)
+        t_ramps = (2.0 * vc - v0 - v1) / accel
+    else:
+        d_accel = d_decel = t_ramps = 0.0
+    d_cruise = max(units - d_accel - d_decel, 0.0)
+    clocks = t_ramps + (d_cruise / vc if vc > 0.0 else 0.0)
+    return CoreSegment(unit_mm=unit, units=units, v_entry=v0, v_cruise=vc, v_exit=v1,
+                       accel=accel, decel_start=units - d_decel, clocks=clocks)
