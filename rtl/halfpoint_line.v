@@ -28,9 +28,13 @@
 // held between steps), done = it was the segment's last move.
 // busy = a segment is running, pending or being validated.
 //
-// Parameters:
-//   NA  number of axes, 1..6
-//   W   delta width in bits, 8..32 (signed deltas); the datapath is W+2 bits
+// Parameters: see the comment above each (an illegal value stops
+// elaboration).
+//
+// Register names: registers end in _q, the value they take at the next edge
+// in _n; cmd_* hold the command being validated, pend_* the pending slot.
+// e_q is E_i of every axis, e_add_step_q / e_add_hold_q the increments E_i
+// receives on an iteration in which axis i steps / does not step.
 //
 // abort_now: at the next edge no move is made and the running, pending and
 // validating segments are dropped (no reject for them); s_ready is low while
@@ -39,30 +43,51 @@
 // Reset: synchronous, active high, clears control state and outputs.
 // ============================================================================
 module halfpoint_line #(
+    // number of axes, 1..6
     parameter integer NA = 3,
+    // delta width in bits, 8..32 (signed deltas); the datapath is W+2 bits
     parameter integer W  = 32
 ) (
-    input  wire               clk,
-    input  wire               rst,
-    input  wire               en,
-    input  wire               s_valid,
-    output wire               s_ready,
-    input  wire [NA*W-1:0]    s_delta,
-    output wire               busy,
-    output reg                move,
-    output reg  [NA-1:0]      step,
-    output reg  [NA-1:0]      dir,
-    output reg                done,
-    output reg                reject,
-    output reg  [1:0]         err_code,
-    // sequencing (for the motion core; tie start_en high when used alone)
-    input  wire               abort_now,  // drop the running, pending and validated segments
-    input  wire               start_en,   // the pending segment may enter the run stage
-    output wire               running,    // a segment is in the run stage
-    output wire               loading,    // the pending segment enters the run stage at this edge
-    output wire               ending,     // the running segment makes its last move at this edge
-    output wire [NA-1:0]      nx_step,    // next move (if en): axes that step
-    output wire [NA-1:0]      nx_dir      //   and their directions, 1 = positive
+    input  wire            clk,
+    input  wire            rst,
+    // move enable: one iteration per clock while high
+    input  wire            en,
+
+    /*
+     * Command stream (valid/ready): NA signed deltas, axis 0 in the least
+     * significant bits
+     */
+    input  wire            s_valid,
+    output wire            s_ready,
+    input  wire [NA*W-1:0] s_delta,
+
+    /*
+     * Status and per-clock outputs (registered)
+     */
+    output wire            busy,
+    output reg             move,
+    output reg  [NA-1:0]   step,
+    output reg  [NA-1:0]   dir,
+    output reg             done,
+    output reg             reject,
+    output reg  [1:0]      err_code,
+
+    /*
+     * Sequencing (for the motion core; tie start_en high when used alone)
+     */
+    // drop the running, pending and validated segments now
+    input  wire            abort_now,
+    // the pending segment may enter the run stage
+    input  wire            start_en,
+    // a segment is in the run stage
+    output wire            running,
+    // the pending segment enters the run stage at this edge
+    output wire            loading,
+    // the running segment makes its last move at this edge
+    output wire            ending,
+    // the next move (if en): axes that step, and their directions (1 = positive)
+    output wire [NA-1:0]   nx_step,
+    output wire [NA-1:0]   nx_dir
 );
 
     generate
@@ -74,68 +99,75 @@ module halfpoint_line #(
         end
     endgenerate
 
-    localparam integer DW = W + 2;
-    localparam [1:0] L_IDLE = 2'd0, L_MAX = 2'd1, L_INIT = 2'd2, L_HOLD = 2'd3;
-    localparam integer NLAST = NA - 1;
+    localparam integer DATA_W = W + 2;      // datapath width
+    // validator states
+    localparam [1:0] STATE_IDLE = 2'd0;
+    localparam [1:0] STATE_MAX  = 2'd1;
+    localparam [1:0] STATE_INIT = 2'd2;
+    localparam [1:0] STATE_HOLD = 2'd3;
+    localparam integer AXIS_LAST = NA - 1;
     localparam [W-1:0] ONE_W = {{(W-1){1'b0}}, 1'b1};
-    localparam [DW-1:0] ONE_D = {{(DW-1){1'b0}}, 1'b1};
+    localparam [DATA_W-1:0] ONE_D = {{(DATA_W-1){1'b0}}, 1'b1};
 
-    reg  [1:0]      vstate_q;
-    reg  [2:0]      vcnt_q;
-    reg  [NA*W-1:0] c_mag_q;          // |d_i|
-    reg  [NA-1:0]   c_neg_q;          // d_i < 0
-    reg  [W-1:0]    max_q;            // running maximum of |d_i|
-    reg  [NA*DW-1:0] p_e_q, p_ks_q, p_kn_q;
-    reg  [W-1:0]    p_cnt_q;
+    reg  [1:0]          validator_state_q;
+    reg  [2:0]          axis_index_q;
+    reg  [NA*W-1:0]     cmd_abs_q;              // |d_i|
+    reg  [NA-1:0]       cmd_negative_q;         // d_i < 0
+    reg  [W-1:0]        max_abs_q;              // running maximum of |d_i|
+    reg  [NA*DATA_W-1:0] pend_e_q, pend_e_add_step_q, pend_e_add_hold_q;
+    reg  [W-1:0]        pend_moves_q;
 
-    assign s_ready = (vstate_q == L_IDLE) && !abort_now;
-    wire   accept  = s_valid && s_ready;
-    wire   empty   = (max_q == {W{1'b0}});
+    assign s_ready = (validator_state_q == STATE_IDLE) && !abort_now;
+    wire   accept   = s_valid && s_ready;
+    wire   all_zero = (max_abs_q == {W{1'b0}});
     wire   load;
 
-    wire [W-1:0] mag_sel = c_mag_q[vcnt_q*W +: W];
+    wire [W-1:0] abs_selected = cmd_abs_q[axis_index_q*W +: W];
 
     always @(posedge clk) begin
         if (rst || abort_now) begin
-            vstate_q <= L_IDLE;
+            validator_state_q <= STATE_IDLE;
         end else begin
-            case (vstate_q)
-                L_IDLE: if (accept) vstate_q <= L_MAX;
-                L_MAX:  if (vcnt_q == NLAST[2:0]) vstate_q <= L_INIT;
-                L_INIT: vstate_q <= empty ? L_IDLE : L_HOLD;
-                L_HOLD: if (load) vstate_q <= L_IDLE;
-                default: vstate_q <= L_IDLE;
+            case (validator_state_q)
+                STATE_IDLE: if (accept) validator_state_q <= STATE_MAX;
+                STATE_MAX:  if (axis_index_q == AXIS_LAST[2:0]) validator_state_q <= STATE_INIT;
+                STATE_INIT: validator_state_q <= all_zero ? STATE_IDLE : STATE_HOLD;
+                STATE_HOLD: if (load) validator_state_q <= STATE_IDLE;
+                default:    validator_state_q <= STATE_IDLE;
             endcase
         end
     end
 
     always @(posedge clk) begin
         if (accept) begin
-            vcnt_q <= 3'd0;
-            max_q  <= {W{1'b0}};
+            axis_index_q <= 3'd0;
+            max_abs_q    <= {W{1'b0}};
         end
-        if (vstate_q == L_MAX) begin
-            vcnt_q <= vcnt_q + 3'd1;
-            if (mag_sel > max_q) max_q <= mag_sel;
+        if (validator_state_q == STATE_MAX) begin
+            axis_index_q <= axis_index_q + 3'd1;
+            if (abs_selected > max_abs_q) max_abs_q <= abs_selected;
         end
-        if (vstate_q == L_INIT) p_cnt_q <= max_q;
+        if (validator_state_q == STATE_INIT) pend_moves_q <= max_abs_q;
     end
 
     genvar i;
     generate
         for (i = 0; i < NA; i = i + 1) begin : g_in
-            wire [W-1:0]  d_in = s_delta[i*W +: W];
-            wire [DW-1:0] m2   = {1'b0, c_mag_q[i*W +: W], 1'b0};     // 2|d_i|
-            wire [DW-1:0] mx   = {2'b00, max_q};
+            wire [W-1:0]      delta     = s_delta[i*W +: W];
+            wire [DATA_W-1:0] abs_twice = {1'b0, cmd_abs_q[i*W +: W], 1'b0};     // 2|d_i|
+            wire [DATA_W-1:0] max_wide  = {2'b00, max_abs_q};
             always @(posedge clk) begin
                 if (accept) begin
-                    c_neg_q[i] <= d_in[W-1];
-                    c_mag_q[i*W +: W] <= d_in[W-1] ? (~d_in + ONE_W) : d_in;
+                    cmd_negative_q[i] <= delta[W-1];
+                    cmd_abs_q[i*W +: W] <= delta[W-1] ? (~delta + ONE_W) : delta;
                 end
-                if (vstate_q == L_INIT) begin
-                    p_e_q[i*DW +: DW]  <= m2 - mx - ONE_D;     // E_0 (F = 0)
-                    p_ks_q[i*DW +: DW] <= m2 - (mx << 1);       // after a step
-                    p_kn_q[i*DW +: DW] <= m2;                   // no step
+                if (validator_state_q == STATE_INIT) begin
+                    // E_0 (F = 0)
+                    pend_e_q[i*DATA_W +: DATA_W]          <= abs_twice - max_wide - ONE_D;
+                    // after a step
+                    pend_e_add_step_q[i*DATA_W +: DATA_W] <= abs_twice - (max_wide << 1);
+                    // no step
+                    pend_e_add_hold_q[i*DATA_W +: DATA_W] <= abs_twice;
                 end
             end
         end
@@ -144,34 +176,36 @@ module halfpoint_line #(
     // ------------------------------------------------------------------
     // Run stage
     // ------------------------------------------------------------------
-    reg              run_q;
-    reg  [W-1:0]     cnt_q;           // moves left
-    reg  [NA-1:0]    neg_q;
-    reg  [NA*DW-1:0] e_q, ks_q, kn_q;
-    wire [NA-1:0]    stp;
+    reg                  run_q;
+    reg  [W-1:0]         moves_left_q;
+    reg  [NA-1:0]        negative_q;
+    reg  [NA*DATA_W-1:0] e_q, e_add_step_q, e_add_hold_q;
+    wire [NA-1:0]        steps;
 
-    wire ce   = run_q && en && !abort_now;
-    wire last = ce && (cnt_q == ONE_W);
-    assign load = (vstate_q == L_HOLD) && start_en && !abort_now && (!run_q || last);
+    wire advance = run_q && en && !abort_now;           // a move at this edge
+    wire last    = advance && (moves_left_q == ONE_W);
+    assign load = (validator_state_q == STATE_HOLD) && start_en && !abort_now && (!run_q || last);
 
     assign running = run_q;
     assign loading = load;
     assign ending  = last;
-    assign nx_step = stp;
-    assign nx_dir  = ~neg_q;
-    assign busy = run_q || (vstate_q != L_IDLE);
+    assign nx_step = steps;
+    assign nx_dir  = ~negative_q;
+    assign busy    = run_q || (validator_state_q != STATE_IDLE);
 
     generate
         for (i = 0; i < NA; i = i + 1) begin : g_axis
-            wire [DW-1:0] e = e_q[i*DW +: DW];
-            assign stp[i] = !e[DW-1];
+            wire [DATA_W-1:0] e_axis = e_q[i*DATA_W +: DATA_W];
+            assign steps[i] = !e_axis[DATA_W-1];
+            wire [DATA_W-1:0] e_add = steps[i] ? e_add_step_q[i*DATA_W +: DATA_W]
+                                               : e_add_hold_q[i*DATA_W +: DATA_W];
             always @(posedge clk) begin
                 if (load) begin
-                    e_q[i*DW +: DW]  <= p_e_q[i*DW +: DW];
-                    ks_q[i*DW +: DW] <= p_ks_q[i*DW +: DW];
-                    kn_q[i*DW +: DW] <= p_kn_q[i*DW +: DW];
-                end else if (ce) begin
-                    e_q[i*DW +: DW] <= e + (stp[i] ? ks_q[i*DW +: DW] : kn_q[i*DW +: DW]);
+                    e_q[i*DATA_W +: DATA_W]          <= pend_e_q[i*DATA_W +: DATA_W];
+                    e_add_step_q[i*DATA_W +: DATA_W] <= pend_e_add_step_q[i*DATA_W +: DATA_W];
+                    e_add_hold_q[i*DATA_W +: DATA_W] <= pend_e_add_hold_q[i*DATA_W +: DATA_W];
+                end else if (advance) begin
+                    e_q[i*DATA_W +: DATA_W] <= e_axis + e_add;
                 end
             end
         end
@@ -189,24 +223,30 @@ module halfpoint_line #(
 
     always @(posedge clk) begin
         if (load) begin
-            cnt_q <= p_cnt_q;
-            neg_q <= c_neg_q;
-        end else if (ce) begin
-            cnt_q <= cnt_q - ONE_W;
+            moves_left_q <= pend_moves_q;
+            negative_q   <= cmd_negative_q;
+        end else if (advance) begin
+            moves_left_q <= moves_left_q - ONE_W;
         end
     end
 
+    wire rejecting = (validator_state_q == STATE_INIT) && all_zero && !abort_now;
+
     always @(posedge clk) begin
         if (rst) begin
-            move <= 1'b0; step <= {NA{1'b0}}; dir <= {NA{1'b0}};
-            done <= 1'b0; reject <= 1'b0; err_code <= 2'd0;
+            move     <= 1'b0;
+            step     <= {NA{1'b0}};
+            dir      <= {NA{1'b0}};
+            done     <= 1'b0;
+            reject   <= 1'b0;
+            err_code <= 2'd0;
         end else begin
-            move <= ce;
-            step <= ce ? stp : {NA{1'b0}};
-            if (ce) dir <= (dir & ~stp) | (~neg_q & stp);
-            done <= last;
-            reject <= (vstate_q == L_INIT) && empty && !abort_now;
-            if ((vstate_q == L_INIT) && empty && !abort_now) err_code <= 2'd1;
+            move   <= advance;
+            step   <= advance ? steps : {NA{1'b0}};
+            if (advance) dir <= (dir & ~steps) | (~negative_q & steps);
+            done   <= last;
+            reject <= rejecting;
+            if (rejecting) err_code <= 2'd1;
         end
     end
 

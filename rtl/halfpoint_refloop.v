@@ -21,22 +21,31 @@
 // cleared by rst (a synchronous reset maps onto the flip-flops' own reset
 // input), so the only logic in the loop is the one described above.
 //
-// Parameters:
-//   WR    register width, 8..64 (the arc unit's datapath is W+2 = 34 bits)
-//   FOLD  0 or 1, as above
+// Parameters: see the comment above each (an illegal value stops
+// elaboration).
 //
 // Reset: synchronous, active high, clears acc (acc then runs from 0 with
 // whatever a and b hold).
 // ============================================================================
 module halfpoint_refloop #(
+    // register width, 8..64 (the arc unit's datapath is W+2 = 34 bits)
     parameter integer WR   = 34,
+    // 0: operand chosen by a 2:1 mux; 1: add/subtract of one operand (above)
     parameter integer FOLD = 0
 ) (
     input  wire          clk,
     input  wire          rst,
+
+    /*
+     * Operands, registered while load is high
+     */
     input  wire          load,
     input  wire [WR-1:0] a,
     input  wire [WR-1:0] b,
+
+    /*
+     * The loop register
+     */
     output wire [WR-1:0] acc
 );
 
