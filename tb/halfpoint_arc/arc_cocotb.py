@@ -2,7 +2,7 @@
 """cocotb tests of halfpoint_arc: the RTL against the model on every clock.
 
 Run by ``test_arc_rtl.py`` (pytest) through cocotb's Python runner; the
-coordinate width comes from the HP_W environment variable.
+coordinate width is read from the design (its parameter W).
 """
 
 from __future__ import annotations
@@ -18,8 +18,16 @@ from halfpoint.spec.arc import (
     ERR_END_OFF, ERR_RADIUS_ZERO, ERR_RANGE, arc_points, limits, validate_latency,
 )
 from halfpoint.sim.arcbench import ArcBench
+from halfpoint.sim.design import read_parameters
 
-W = int(os.environ.get("HP_W", "32"))
+W = 0          # the design's coordinate width: bind() reads it
+
+
+def bind(dut) -> None:
+    """Take W from the design under test (its parameters)."""
+    global W
+    (W,) = read_parameters(dut, "W")
+
 SEED = int(os.environ.get("HP_SEED", "1"))
 
 
@@ -36,6 +44,7 @@ def check_results(results, cmds):
 @cocotb.test()
 async def full_circles(dut):
     """Every full circle of radius 1..64, both directions, on and off an axis."""
+    bind(dut)
     bench = ArcBench(dut, W, seed=SEED)
     await bench.start()
     cmds = []
@@ -55,6 +64,7 @@ async def full_circles(dut):
 async def quadrant_pairs(dut):
     """Random arcs over all start/end quadrant pairs, both directions,
     random enable gaps and random gaps in s_valid."""
+    bind(dut)
     rng = random.Random(SEED * 7 + 1)
     bench = ArcBench(dut, W, seed=SEED + 11)
     await bench.start()
@@ -74,6 +84,7 @@ async def quadrant_pairs(dut):
 @cocotb.test()
 async def radii_to_width_limit(dut):
     """Short and long arcs on radii from 1 up to the largest the width allows."""
+    bind(dut)
     rng = random.Random(SEED * 13 + 5)
     bench = ArcBench(dut, W, seed=SEED + 23)
     await bench.start()
@@ -101,6 +112,7 @@ async def radii_to_width_limit(dut):
 @cocotb.test()
 async def rejects_then_valid(dut):
     """Each reject case makes no move, reports its code, and the next runs."""
+    bind(dut)
     bench = ArcBench(dut, W, seed=SEED + 31)
     await bench.start()
     half = 1 << (W - 1)
@@ -131,6 +143,7 @@ async def rejects_then_valid(dut):
 @cocotb.test()
 async def back_to_back(dut):
     """Commands queued ahead run with no idle clock between them."""
+    bind(dut)
     rng = random.Random(SEED * 17 + 3)
     bench = ArcBench(dut, W, seed=SEED + 41)
     await bench.start()

@@ -25,6 +25,6 @@ def test_arc_rtl_matches_model(width, testcases):
         test_dir=BUILD / "sim" / f"arc_w{width}" / "run",
         parameters={"W": width},
         build_name=f"arc_w{width}",
-        extra_env={"HP_W": width, "HP_SEED": 1},
+        extra_env={"HP_SEED": 1},
         testcase=testcases,
     )

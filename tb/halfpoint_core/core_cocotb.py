@@ -12,15 +12,19 @@ from cocotb.triggers import FallingEdge
 
 from halfpoint.spec import encoding as enc
 from halfpoint.sim.corebench import CoreBench
+from halfpoint.sim.design import read_parameters
 from halfpoint.spec.rules import wrap
 from halfpoint.spec.program import expect, random_arc, random_line
 from halfpoint.spec.stepgen import StepCfg
 
-NA = int(os.environ.get("HP_NA", "3"))
-W = int(os.environ.get("HP_W", "32"))
-DEPTH = int(os.environ.get("HP_DEPTH", "4"))
-TW = int(os.environ.get("HP_TW", "16"))
+NA = W = DEPTH = TW = 0     # the design's parameters: bind() reads them
 SEED = int(os.environ.get("HP_SEED", "1"))
+
+
+def bind(dut) -> None:
+    """Take NA, W, DEPTH, TW from the design under test (its parameters)."""
+    global NA, W, DEPTH, TW
+    NA, W, DEPTH, TW = read_parameters(dut, "NA", "W", "DEPTH", "TW")
 
 
 def rate(rng, lo=0.2, hi=2.0):
@@ -48,6 +52,7 @@ async def mixed_program(dut):
     """Hundreds of mixed arcs and lines at random rates, random gaps on the
     stream, random STEP/DIR timing and polarity, rejected and empty commands
     in the middle; every clock compared, every pin edge checked."""
+    bind(dut)
     rng = random.Random(SEED)
     bench = CoreBench(dut, NA, W, DEPTH, TW, cfg=random_cfg(rng), seed=SEED)
     await bench.start(pause_prob=0.3)
@@ -79,6 +84,7 @@ async def mixed_program(dut):
 @cocotb.test()
 async def queue_full_and_empty(dut):
     """A slow program fills the queue (tready low at DEPTH), then drains."""
+    bind(dut)
     rng = random.Random(SEED + 1)
     bench = CoreBench(dut, NA, W, DEPTH, TW, seed=SEED + 1)
     await bench.start()
@@ -93,6 +99,7 @@ async def queue_full_and_empty(dut):
 @cocotb.test()
 async def feed_override_and_hold(dut):
     """Live feed override: 100 %, 50 %, 0 % (hold: no move), 150 %, 200 %."""
+    bind(dut)
     rng = random.Random(SEED + 2)
     bench = CoreBench(dut, NA, W, DEPTH, TW, cfg=[StepCfg(1, 0, 0, 0)] * NA, seed=SEED + 2)
     await bench.start()
@@ -113,6 +120,7 @@ async def feed_override_and_hold(dut):
 async def underrun_flag(dut):
     """CONT segments with a gap in the stream set underrun; the last segment
     of a program (CONT clear) does not."""
+    bind(dut)
     rng = random.Random(SEED + 3)
     bench = CoreBench(dut, NA, W, DEPTH, TW, seed=SEED + 3)
     await bench.start()
@@ -130,6 +138,7 @@ async def no_idle_clock_at_boundaries(dut):
     """With segments queued ahead, some segment is in a run stage on every
     clock from the first move to the last: a boundary between arcs and lines,
     in any order, costs no clock (read from the RTL's own run flags)."""
+    bind(dut)
     rng = random.Random(SEED + 4)
     bench = CoreBench(dut, NA, W, DEPTH, TW, cfg=[StepCfg(1, 0, 0, 0)] * NA, seed=SEED + 4)
     await bench.start()
@@ -164,6 +173,7 @@ async def abort_then_new_program(dut):
     and one running): no further move, queue emptied, pulses in progress
     complete with full timing; then a new program runs from where the axes
     stopped."""
+    bind(dut)
     rng = random.Random(SEED + 5)
     bench = CoreBench(dut, NA, W, DEPTH, TW, cfg=random_cfg(rng), seed=SEED + 5)
     await bench.start()

@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: Apache-2.0
 """cocotb tests of halfpoint_line: the RTL against the model on every clock.
 
-Run by ``test_line_rtl.py``; the axis count and width come from HP_NA, HP_W.
+Run by ``test_line_rtl.py``; the axis count and width are read from the design (NA, W).
 """
 
 from __future__ import annotations
@@ -11,12 +11,18 @@ import random
 
 import cocotb
 
+from halfpoint.sim.design import read_parameters
 from halfpoint.sim.linebench import LineBench
 from halfpoint.spec.line import ERR_EMPTY, line_latency, line_steps
 
-NA = int(os.environ.get("HP_NA", "3"))
-W = int(os.environ.get("HP_W", "32"))
+NA = W = 0     # the design's axis count and width: bind() reads them
 SEED = int(os.environ.get("HP_SEED", "1"))
+
+
+def bind(dut) -> None:
+    """Take NA, W from the design under test (its parameters)."""
+    global NA, W
+    NA, W = read_parameters(dut, "NA", "W")
 
 
 def fit(deltas):
@@ -46,6 +52,7 @@ def random_segment(rng, scale=40):
 @cocotb.test()
 async def seed_example(dut):
     """Seed 001's worked example O(0,0,0) -> E(6,5,3), and its mirror image."""
+    bind(dut)
     bench = LineBench(dut, NA, W, seed=SEED)
     await bench.start()
     cmds = [fit((6, 5, 3)), fit((-6, 5, -3))]
@@ -57,6 +64,7 @@ async def seed_example(dut):
 async def random_program(dut):
     """Hundreds of random segments with random en and s_valid gaps,
     including empty segments (rejected) in between."""
+    bind(dut)
     rng = random.Random(SEED * 3 + 1)
     bench = LineBench(dut, NA, W, seed=SEED + 5)
     await bench.start()
@@ -75,6 +83,7 @@ async def random_program(dut):
 @cocotb.test()
 async def extreme_deltas(dut):
     """The most negative and most positive delta the width allows."""
+    bind(dut)
     bench = LineBench(dut, NA, W, seed=SEED + 9)
     await bench.start()
     half = 1 << (W - 1)
@@ -89,6 +98,7 @@ async def extreme_deltas(dut):
 @cocotb.test()
 async def back_to_back(dut):
     """Queued segments run with no idle clock between them."""
+    bind(dut)
     rng = random.Random(SEED * 11 + 7)
     bench = LineBench(dut, NA, W, seed=SEED + 13)
     await bench.start()

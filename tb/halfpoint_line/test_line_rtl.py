@@ -18,5 +18,5 @@ def test_line_rtl_matches_model(axes, width):
         test_dir=BUILD / "sim" / name / "run",
         parameters={"NA": axes, "W": width},
         build_name=name,
-        extra_env={"HP_NA": axes, "HP_W": width, "HP_SEED": 1},
+        extra_env={"HP_SEED": 1},
     )

@@ -10,6 +10,8 @@ import cocotb
 from cocotb.clock import Clock
 from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge
 
+from halfpoint.sim.design import read_parameters
+
 WR = 34
 MASK = (1 << WR) - 1
 
@@ -24,7 +26,7 @@ def step(acc: int, a: int, b: int, fold: int) -> int:
 
 @cocotb.test()
 async def recurrence(dut):
-    fold = int(os.environ["HP_FOLD"])
+    (fold,) = read_parameters(dut, "FOLD")
     rng = random.Random(int(os.environ.get("HP_SEED", "1")))
     cocotb.start_soon(Clock(dut.clk, 10, unit="ns").start())
     # inputs applied before the next edge

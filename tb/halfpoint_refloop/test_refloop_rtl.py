@@ -17,5 +17,5 @@ def test_refloop_rtl(fold):
         test_dir=BUILD / "sim" / name / "run",
         parameters={"WR": 34, "FOLD": fold},
         build_name=name,
-        extra_env={"HP_FOLD": fold, "HP_SEED": 1},
+        extra_env={"HP_SEED": 1},
     )

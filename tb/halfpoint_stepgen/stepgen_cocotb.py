@@ -12,9 +12,17 @@ from cocotb.clock import Clock
 from cocotb.triggers import FallingEdge
 
 from halfpoint.spec.stepgen import StepCfg, StepGenModel, StepInputs
+from halfpoint.sim.design import read_parameters
 from halfpoint.sim.timing import StepDirChecker
 
-TW = int(os.environ.get("HP_TW", "16"))
+TW = 0         # the design's timing width: bind() reads it
+
+
+def bind(dut) -> None:
+    """Take TW from the design under test (its parameters)."""
+    global TW
+    (TW,) = read_parameters(dut, "TW")
+
 FIELDS = ("step_pin", "dir_pin", "ready_pos", "ready_neg", "busy")
 
 CONFIGS = [
@@ -94,6 +102,7 @@ async def run_config(dut, cfg: StepCfg, rng: random.Random, nsteps: int, idle: f
 async def timing_and_model(dut):
     """Every configuration: pins equal the model on every clock, every edge
     meets the timing, every request becomes exactly one pulse."""
+    bind(dut)
     cocotb.start_soon(Clock(dut.clk, 10, unit="ns").start())
     rng = random.Random(int(os.environ.get("HP_SEED", "1")))
     for cfg in CONFIGS:

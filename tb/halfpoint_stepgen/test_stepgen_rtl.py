@@ -16,5 +16,5 @@ def test_stepgen_rtl(tw):
         test_dir=BUILD / "sim" / name / "run",
         parameters={"TW": tw},
         build_name=name,
-        extra_env={"HP_TW": tw, "HP_SEED": 1},
+        extra_env={"HP_SEED": 1},
     )

@@ -14,6 +14,8 @@ from cocotb.clock import Clock
 from cocotb.triggers import ClockCycles, RisingEdge, Timer, with_timeout
 from cocotbext.uart import UartSink, UartSource
 
+from halfpoint.sim.design import read_parameters
+
 CLK_NS = 1000
 ACK = 0x80
 LINE_ERR = 0x40
@@ -23,7 +25,8 @@ CMD_ERR = 0x20
 class Bench:
     def __init__(self, dut):
         self.dut = dut
-        cpb = int(os.environ["HP_CPB"])
+        clk_hz, baud_param = read_parameters(dut, "CLK_HZ", "BAUD")
+        cpb = clk_hz // baud_param                  # clocks per bit, as the design divides
         skew = float(os.environ.get("HP_SKEW", "0"))
         self.bit_ns = cpb * CLK_NS
         baud = 1e9 / self.bit_ns

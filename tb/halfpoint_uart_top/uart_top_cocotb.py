@@ -17,13 +17,23 @@ from halfpoint.spec import encoding as enc
 from halfpoint.spec.rules import wrap
 from halfpoint.spec.program import expect, random_arc, random_line
 from halfpoint.spec.stepgen import StepCfg
+from halfpoint.sim.design import read_parameters
 from halfpoint.sim.timing import StepDirChecker
 
-P = {k[3:]: int(v) for k, v in os.environ.items() if k.startswith("HP_") and k != "HP_SEED"}
-NA, W = P["NA"], P["W"]
-CLK_NS = 1_000_000_000 // P["CLK_HZ"]
-BIT_NS = CLK_NS * (P["CLK_HZ"] // P["BAUD"])
-CFG = StepCfg(P["STEPLEN"], P["STEPSPACE"], P["DIRSETUP"], P["DIRHOLD"])
+PARAMETERS = ("CLK_HZ", "BAUD", "NA", "W", "STEPLEN", "STEPSPACE", "DIRSETUP", "DIRHOLD")
+P: dict[str, int] = {}      # the design's parameters: bind() reads them
+NA = W = CLK_NS = BIT_NS = 0
+CFG = StepCfg()
+
+
+def bind(dut) -> None:
+    """Take the board top's parameters from the design under test."""
+    global NA, W, CLK_NS, BIT_NS, CFG
+    P.update(zip(PARAMETERS, read_parameters(dut, *PARAMETERS)))
+    NA, W = P["NA"], P["W"]
+    CLK_NS = 1_000_000_000 // P["CLK_HZ"]
+    BIT_NS = CLK_NS * (P["CLK_HZ"] // P["BAUD"])
+    CFG = StepCfg(P["STEPLEN"], P["STEPSPACE"], P["DIRSETUP"], P["DIRHOLD"])
 ACK, LINE_ERR, CMD_ERR = 0x80, 0x40, 0x20
 
 
@@ -83,6 +93,7 @@ def program(rng, n):
 
 @cocotb.test()
 async def program_over_serial(dut):
+    bind(dut)
     rng = random.Random(int(os.environ.get("HP_SEED", "1")))
     b = Board(dut)
     await ClockCycles(dut.clk, 40)                 # power-on reset
@@ -102,6 +113,7 @@ async def program_over_serial(dut):
 
 @cocotb.test()
 async def abort_and_reset_buttons(dut):
+    bind(dut)
     rng = random.Random(2)
     b = Board(dut)
     await ClockCycles(dut.clk, 40)

@@ -15,6 +15,7 @@ import platform
 import random
 import sys
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -29,10 +30,42 @@ CLOCK_HZ = 100e6            # the clock the step rate is quoted at
 SEED = 1
 
 
+@dataclass
+class BenchCore(CoreModel):
+    """The core model with the bench's counters, and the naive-pacing baseline
+    (``diag_weighting=False``: every move costs the same, which is not the RTL).
+
+    Counted per clock, from the move view the model computes anyway: clocks
+    that moved, clocks a running segment was held by feed or STEP/DIR timing,
+    and clocks with work waiting but no segment running after the first move
+    (sequencing bubbles).
+    """
+
+    diag_weighting: bool = True
+    stat_moves: int = 0
+    stat_held: int = 0
+    stat_starved: int = 0
+
+    def move_cost(self, diagonal: bool) -> int:
+        return super().move_cost(diagonal and self.diag_weighting)
+
+    def move_view(self):
+        m = super().move_view()
+        if m.unit is not None:
+            if m.go:
+                self.stat_moves += 1
+            else:
+                self.stat_held += 1
+        elif self.stat_moves and (self.queue or self.inflight is not None
+                                  or self.arc.vstate or self.line.vstate):
+            self.stat_starved += 1
+        return m
+
+
 def run_core(cmds, rate_cfg=None, diag_weighting=True, axes=3):
     """Run commands through the core model with the queue kept full; returns
     (model, move times, positions after each move)."""
-    m = CoreModel(axes, 32, 16, 16, rate_cfg or [StepCfg(1, 1, 0, 0)] * axes,
+    m = BenchCore(axes, 32, 16, 16, rate_cfg or [StepCfg(1, 1, 0, 0)] * axes,
                   diag_weighting=diag_weighting)
     run = run_program(m, cmds)
     return m, run.times, run.trace

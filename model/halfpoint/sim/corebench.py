@@ -18,6 +18,7 @@ from cocotb.triggers import FallingEdge, RisingEdge
 from cocotbext.axi import AxiStreamBus, AxiStreamFrame, AxiStreamSource
 
 from ..spec.core import CoreInputs, CoreModel
+from ..spec.rules import wrap
 from ..spec.stepgen import StepCfg
 from .timing import StepDirChecker
 
@@ -70,12 +71,9 @@ class CoreBench:
 
     def _read(self) -> dict:
         d = self.dut
-        w, mask = self.width, (1 << self.width) - 1
+        w = self.width
         raw = int(d.pos.value)
-        pos = []
-        for k in range(self.axes):
-            v = (raw >> (k * w)) & mask
-            pos.append(v - (1 << w) if v >> (w - 1) else v)
+        pos = [wrap(raw >> (k * w), w) for k in range(self.axes)]
         return {
             "tready": int(d.s_axis_tready.value), "busy": int(d.busy.value),
             "level": int(d.queue_level.value), "move": int(d.move.value),

@@ -63,7 +63,6 @@ def run_rtl(cmds, width: int = 32) -> list[ArcOutcome]:
             parameters={"W": width},
             build_name=f"engine_arc_w{width}",
             extra_env={
-                "HP_W": width,
                 "HP_CMDS": json.dumps([list(c) for c in cmds]),
                 "HP_OUT": str(out_file),
                 "COCOTB_LOG_LEVEL": os.environ.get("COCOTB_LOG_LEVEL", "WARNING"),

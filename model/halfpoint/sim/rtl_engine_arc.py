@@ -15,11 +15,12 @@ import os
 import cocotb
 
 from .arcbench import ArcBench
+from .design import read_parameters
 
 
 @cocotb.test()
 async def run_commands(dut):
-    width = int(os.environ["HP_W"])
+    (width,) = read_parameters(dut, "W")
     cmds = [tuple(c) for c in json.loads(os.environ["HP_CMDS"])]
     bench = ArcBench(dut, width, check=False)
     await bench.start()

@@ -14,6 +14,7 @@ import os
 import cocotb
 
 from .corebench import CoreBench
+from .design import read_parameters
 from ..spec.stepgen import StepCfg
 
 
@@ -21,7 +22,8 @@ from ..spec.stepgen import StepCfg
 async def run_segments(dut):
     with open(os.environ["HP_CMDS"], encoding="utf-8") as fh:
         cmds = [int(c) for c in json.load(fh)]
-    bench = CoreBench(dut, 3, 32, 16, 16, cfg=[StepCfg(1, 0, 0, 0)] * 3, check=False)
+    axes, width, depth, tw = read_parameters(dut, "NA", "W", "DEPTH", "TW")
+    bench = CoreBench(dut, axes, width, depth, tw, cfg=[StepCfg(1, 0, 0, 0)] * axes, check=False)
     await bench.start()
     await bench.send(cmds)
     await bench.drain()

@@ -35,7 +35,7 @@ circle, start == end); then they are armed by the first quadrant crossing.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Iterator
 
 from .rules import check_width, fits
@@ -153,6 +153,41 @@ def validate(xs: int, ys: int, xe: int, ye: int, width: int) -> int:
     return ERR_NONE
 
 
+def step(q, u, v, f, cw):
+    """One lattice move of the half-point method: the algorithm, written once.
+
+    From the frame (q, u, v) of the current point and its deviation f, returns
+    ``(du, dv, dx, dy, q2, u2, v2, f2, crossing)``: whether u shrinks (B or A)
+    and v grows (A or C), the physical steps, the frame and deviation after the
+    move, and whether the move crossed into the next quadrant.  Only adds,
+    compares and selects written as arithmetic, so the same function runs on
+    Python integers (``ArcRun``, the stop prediction) and elementwise on numpy
+    integer arrays (the sweeps of ``full_circle_stats``).
+
+    Decision: D1 = F - 2u + v + 1 >= 0 -> B; else D2 = F - u + 2v + 1 >= 0 -> A;
+    else C.  Since D2 - D1 = u + v >= 0, u shrinks exactly when D2 >= 0 and v
+    grows exactly when D1 < 0.  u steps towards the axis, v away from it; when
+    u reaches 0 the point lies on an axis and belongs to the next quadrant,
+    where the old v becomes u and v = 0 (F does not change with the frame).
+    """
+    du = (f - u + 2 * v + 1 >= 0) * 1           # D2 >= 0: B or A
+    dv = (f - 2 * u + v + 1 < 0) * 1            # D1 < 0: A or C
+    ux = ((q & 1) == cw) * 1                    # u is |x| (CCW I/III, CW II/IV)
+    sx = 1 - 2 * (((q == 1) | (q == 2)) * 1)    # sign of x in quadrant q
+    sy = 1 - 2 * ((q >= 2) * 1)                 # sign of y
+    dx = ux * (-sx * du) + (1 - ux) * (sx * dv)
+    dy = ux * (sy * dv) - (1 - ux) * (sy * du)
+    f2 = f - du * (2 * u - 1) + dv * (2 * v + 1)
+    nu, nv = u - du, v + dv
+    crossing = (nu == 0) * 1
+    q2 = (q + crossing * (1 - 2 * cw)) % 4
+    return du, dv, dx, dy, q2, nu + crossing * nv, nv * (1 - crossing), f2, crossing
+
+
+def move_kind(du: int, dv: int) -> str:
+    return MOVE_A if du and dv else (MOVE_B if du else MOVE_C)
+
+
 @dataclass
 class Move:
     """One lattice move: kind, unit steps per axis and the point reached."""
@@ -166,46 +201,38 @@ class Move:
     last: bool
 
 
-@dataclass
 class ArcRun:
-    """Run-stage state of one accepted arc (the RTL's datapath registers)."""
+    """Run-stage state of one accepted arc (the RTL's datapath registers).
 
-    xs: int
-    ys: int
-    xe: int
-    ye: int
-    cw: int
-    width: int = 32
-    x: int = field(init=False)
-    y: int = field(init=False)
-    f: int = field(init=False)
-    q: int = field(init=False)
-    u: int = field(init=False)
-    v: int = field(init=False)
-    qe: int = field(init=False)
-    ue: int = field(init=False)
-    ve: int = field(init=False)
-    armed: bool = field(init=False)
-    done: bool = field(init=False)
-    moves: int = field(init=False)
+    ``advance`` makes one move with :func:`step` and the end detection of the
+    module docstring; ``move`` does the same and reports it; ``peek`` tells the
+    next move without making it.  With ``check`` (the default) every value the
+    RTL keeps in its W + 2-bit datapath is asserted to fit, on every move.
+    """
 
-    def __post_init__(self) -> None:
-        check_width(self.width)
-        for name in ("xs", "ys", "xe", "ye"):
-            if not fits(getattr(self, name), self.width):
-                raise ArcRejected(ERR_RANGE, f"{name} does not fit {self.width} bits")
-        code = validate(self.xs, self.ys, self.xe, self.ye, self.width)
+    __slots__ = ("xs", "ys", "xe", "ye", "cw", "width", "x", "y", "f", "q", "u", "v",
+                 "qe", "ue", "ve", "armed", "done", "moves", "check", "_dw")
+
+    def __init__(self, xs: int, ys: int, xe: int, ye: int, cw: int, width: int = 32,
+                 check: bool = True):
+        check_width(width)
+        for name, value in (("xs", xs), ("ys", ys), ("xe", xe), ("ye", ye)):
+            if not fits(value, width):
+                raise ArcRejected(ERR_RANGE, f"{name} does not fit {width} bits")
+        code = validate(xs, ys, xe, ye, width)
         if code:
             raise ArcRejected(code)
-        self.x, self.y, self.f = self.xs, self.ys, 0
-        self.q, self.u, self.v = frame(self.xs, self.ys, self.cw)
-        self.qe, self.ue, self.ve = frame(self.xe, self.ye, self.cw)
+        self.xs, self.ys, self.xe, self.ye, self.cw, self.width = xs, ys, xe, ye, cw, width
+        self.x, self.y, self.f = xs, ys, 0
+        self.q, self.u, self.v = frame(xs, ys, cw)
+        self.qe, self.ue, self.ve = frame(xe, ye, cw)
         # At or past E in E's quadrant already (a full circle is the case
         # start == end): the stop checks wait for the first quadrant crossing.
         self.armed = not (self.q == self.qe and not before(self.u, self.v, self.ue, self.ve))
         self.done = False
         self.moves = 0
-        self._dw = self.width + 2  # datapath width of the RTL (D1, D2, F, increments)
+        self.check = check
+        self._dw = width + 2  # datapath width of the RTL (D1, D2, F, increments)
 
     def _fits(self, value: int) -> int:
         lim = 1 << (self._dw - 1)
@@ -220,56 +247,47 @@ class ArcRun:
     def d2(self) -> int:
         return self.f - self.u + 2 * self.v + 1
 
-    def decide(self) -> str:
-        if self._fits(self.d1) >= 0:
-            return MOVE_B
-        if self._fits(self.d2) >= 0:
-            return MOVE_A
-        return MOVE_C
-
     def peek(self) -> tuple[str, int, int]:
         """(kind, dx, dy) of the next move, without making it."""
-        kind = self.decide()
-        du = 1 if kind in (MOVE_B, MOVE_A) else 0
-        dv = 1 if kind in (MOVE_A, MOVE_C) else 0
-        sx, sy = sign_x(self.q), sign_y(self.q)
-        if u_is_x(self.q, self.cw):
-            return kind, -sx * du, sy * dv
-        return kind, sx * dv, -sy * du
+        du, dv, dx, dy = step(self.q, self.u, self.v, self.f, self.cw)[:4]
+        return move_kind(du, dv), dx, dy
 
-    def move(self) -> Move:
-        """Make the next lattice move; ``last`` is set on the arc's final move."""
+    def advance(self) -> tuple[int, int, int, int]:
+        """Make the next lattice move: (du, dv, dx, dy); ``done`` after the last."""
         assert not self.done, "arc already finished"
-        # Physical steps: u steps toward the axis, v away from it.
-        kind, dx, dy = self.peek()
-        du = 1 if kind in (MOVE_B, MOVE_A) else 0
-        dv = 1 if kind in (MOVE_A, MOVE_C) else 0
-        self.f = self._fits(self.f - du * (2 * self.u - 1) + dv * (2 * self.v + 1))
-        # Candidate increments the RTL keeps in registers must fit as well.
-        for inc in (-2 * self.u + 3, 2 * self.v + 3, -2 * self.u + 2 * self.v + 5, -3 * self.v + 1):
-            self._fits(inc)
+        if self.check:
+            self._fits(self.d1)
+            self._fits(self.d2)
+        du, dv, dx, dy, q, u, v, f, crossing = step(self.q, self.u, self.v, self.f, self.cw)
+        if self.check:
+            self._fits(f)
+            # candidate increments the RTL keeps in registers must fit as well
+            for inc in (-2 * self.u + 3, 2 * self.v + 3, -2 * self.u + 2 * self.v + 5,
+                        -3 * self.v + 1):
+                self._fits(inc)
+        q_old = self.q
         self.x += dx
         self.y += dy
-        nu, nv = self.u - du, self.v + dv
-        crossing = nu == 0
-        q_old = self.q
-        if crossing:
-            self.q = next_quadrant(self.q, self.cw)
-            nu, nv = nv, 0
-        self.u, self.v = nu, nv
-        assert self.u > 0 or self.v > 0, "path reached the centre"
-        assert (self.q, self.u, self.v) == frame(self.x, self.y, self.cw)
+        self.q, self.u, self.v, self.f = q, u, v, f
+        if self.check:
+            assert u > 0 or v > 0, "path reached the centre"
+            assert (q, u, v) == frame(self.x, self.y, self.cw)
         stop = False
         if self.armed:
             if q_old == self.qe:
-                stop = crossing or not before(self.u, self.v, self.ue, self.ve)
-            elif crossing and self.q == self.qe:
-                stop = not before(self.u, self.v, self.ue, self.ve)
+                stop = bool(crossing) or not before(u, v, self.ue, self.ve)
+            elif crossing and q == self.qe:
+                stop = not before(u, v, self.ue, self.ve)
         if crossing:
             self.armed = True
         self.moves += 1
         self.done = stop
-        return Move(kind, dx, dy, self.x, self.y, self.f, stop)
+        return du, dv, dx, dy
+
+    def move(self) -> Move:
+        """Make the next lattice move; ``last`` is set on the arc's final move."""
+        du, dv, dx, dy = self.advance()
+        return Move(move_kind(du, dv), dx, dy, self.x, self.y, self.f, self.done)
 
     def run(self) -> Iterator[Move]:
         while not self.done:
@@ -325,56 +343,14 @@ def lattice_point_near(r2: int, theta: float) -> tuple[int, int]:
 
 
 def arc_stop(xs: int, ys: int, xe: int, ye: int, cw: int) -> tuple[int, int, int]:
-    """(x, y, moves) where an accepted arc stops: the same rule as
-    :class:`ArcRun`, in a lean loop for the host toolchain (the tests hold the
-    two equal).  The caller has validated the command."""
-    x, y, f = xs, ys, 0
-    q, u, v = frame(xs, ys, cw)
-    qe, ue, ve = frame(xe, ye, cw)
-    oct1 = ve <= ue
-    if oct1:
-        armed = not (q == qe and (v > ve or (v == ve and u <= ue)))
-    else:
-        armed = not (q == qe and (u < ue or (u == ue and v >= ve)))
-    step = -1 if cw else 1
-    n = 0
-    while True:
-        d1 = f - 2 * u + v + 1
-        if d1 >= 0:
-            du, dv = 1, 0
-        elif f - u + 2 * v + 1 >= 0:
-            du, dv = 1, 1
-        else:
-            du, dv = 0, 1
-        # physical step: u towards the axis, v away from it
-        sx = 1 if q in (0, 3) else -1
-        sy = 1 if q in (0, 1) else -1
-        if (q & 1) == cw:
-            x -= sx * du
-            y += sy * dv
-        else:
-            x += sx * dv
-            y -= sy * du
-        f += dv * (2 * v + 1) - du * (2 * u - 1)
-        n += 1
-        u -= du
-        v += dv
-        q_old = q
-        crossing = u == 0
-        if crossing:
-            q = (q + step) % 4
-            u, v = v, 0
-        if armed and (q_old == qe or (crossing and q == qe)):
-            if q_old == qe and crossing:
-                return x, y, n
-            if oct1:
-                past = v > ve or (v == ve and u <= ue)
-            else:
-                past = u < ue or (u == ue and v >= ve)
-            if past:
-                return x, y, n
-        if crossing:
-            armed = True
+    """(x, y, moves) where an accepted arc stops: :class:`ArcRun` without the
+    datapath assertions (the host's prediction; the caller has validated the
+    command)."""
+    run = ArcRun(xs, ys, xe, ye, cw, check=False)
+    advance = run.advance
+    while not run.done:
+        advance()
+    return run.x, run.y, run.moves
 
 
 def radial_errors(points, r: float):
@@ -388,49 +364,38 @@ def radial_errors(points, r: float):
 def full_circle_stats(radii, cw: int):
     """Full circles from (R, 0) for many integer radii at once (numpy).
 
-    The same decision rule and quadrant table as :class:`ArcRun`, vectorised
-    over the radii; a circle ends when it is back at its start.  Returns
-    (moves, max |radial error|) arrays.  Used for the long sweeps; checked
-    against :class:`ArcRun` in the tests.
+    :func:`step` applied elementwise to arrays of frames, one move per
+    iteration for every circle still running; a circle ends when it is back
+    at its start.  Returns (moves, max |radial error|) arrays.  Used for the
+    long sweeps; checked against :class:`ArcRun` in the tests.
     """
     import numpy as np
 
     r = np.asarray(radii, dtype=np.int64)
     x, y = r.copy(), np.zeros_like(r)
     f = np.zeros_like(r)
+    q0, _, _ = frame(1, 0, cw)                  # (R, 0) lies in the same quadrant for every R
+    q = np.full_like(r, q0)
+    u, v = r.copy(), np.zeros_like(r)           # on the x axis: u = |x| = R, v = 0
     moves = np.zeros_like(r)
     maxerr = np.zeros(r.shape, dtype=float)
-    active = np.ones(r.shape, dtype=bool)
+    active = np.ones(r.shape, dtype=np.int64)
     rf = r.astype(float)
     limit = int(8 * r.max() + 8)
     for _ in range(limit):
         if not active.any():
             break
-        if cw:
-            q = np.where((x >= 0) & (y > 0), 0, np.where((x < 0) & (y >= 0), 1,
-                         np.where((x <= 0) & (y < 0), 2, 3)))
-        else:
-            q = np.where((x > 0) & (y >= 0), 0, np.where((x <= 0) & (y > 0), 1,
-                         np.where((x < 0) & (y <= 0), 2, 3)))
-        ux = (q & 1) == cw
-        u = np.where(ux, np.abs(x), np.abs(y))
-        v = np.where(ux, np.abs(y), np.abs(x))
-        d1 = f - 2 * u + v + 1
-        d2 = f - u + 2 * v + 1
-        du = ((d1 >= 0) | (d2 >= 0)).astype(np.int64)      # B or A
-        dv = (d1 < 0).astype(np.int64)                      # A or C
-        sx = np.where((q == 0) | (q == 3), 1, -1)
-        sy = np.where(q <= 1, 1, -1)
-        dx = np.where(ux, -sx * du, sx * dv) * active
-        dy = np.where(ux, sy * dv, -sy * du) * active
-        f = f + (-du * (2 * u - 1) + dv * (2 * v + 1)) * active
-        x, y = x + dx, y + dy
+        _, _, dx, dy, q2, u2, v2, f2, _ = step(q, u, v, f, cw)
+        keep = 1 - active
+        x, y = x + dx * active, y + dy * active
+        q, u = q2 * active + q * keep, u2 * active + u * keep
+        v, f = v2 * active + v * keep, f2 * active + f * keep
         moves += active
         err = np.abs(np.hypot(x, y) - rf)
-        maxerr = np.where(active, np.maximum(maxerr, err), maxerr)
-        active &= ~((x == r) & (y == 0))
+        maxerr = np.where(active == 1, np.maximum(maxerr, err), maxerr)
+        active &= 1 - ((x == r) & (y == 0))
     if active.any():
-        raise AssertionError(f"circles did not close: radii {r[active][:5]}")
+        raise AssertionError(f"circles did not close: radii {r[active == 1][:5]}")
     return moves, maxerr
 
 

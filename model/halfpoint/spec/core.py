@@ -99,13 +99,45 @@ class CoreOutputs:
 
 
 @dataclass
+class HeadView:
+    """Dispatcher, combinational: what happens to the queue head this cycle."""
+
+    cmd: tuple | None = None        # decoded command handed to a unit ('arc' | 'line', ...)
+    take: str | None = None         # the unit that takes it at this edge
+    pop: bool = False               # the head leaves the queue at this edge
+    err_code: int = 0               # reject reported at this edge (decode or unit)
+    inflight_clear: bool = False    # a unit's reject pulse ends the command in flight
+
+
+@dataclass
+class MoveView:
+    """Feed and STEP/DIR readiness, combinational: the move of this cycle."""
+
+    unit: str | None = None         # the unit in its run stage
+    steps: list = field(default_factory=list)   # signed step per axis of its next move
+    cost: int = COST_AXIS           # credit the move needs
+    go: bool = False                # the move is made at this edge
+    rate: int = 0                   # rate of the running segment
+    cont: bool = False              # CONT of the running segment
+
+
+@dataclass
 class CoreModel:
+    """Clock-by-clock twin of ``halfpoint_core``.
+
+    :meth:`outputs` gives what the RTL shows during the current cycle;
+    :meth:`clock` applies one rising edge.  ``clock`` first computes the two
+    combinational views every section reads (the dispatcher's view of the
+    queue head, and the move the feed and STEP/DIR readiness allow), then
+    clocks the sections in the RTL's order: queue, dispatcher, units, feed,
+    STEP/DIR generators and positions, status.
+    """
+
     axes: int = 3
     width: int = 32
     depth: int = 16
     tw: int = 16
     cfg: list = field(default_factory=list)     # StepCfg per axis
-    diag_weighting: bool = True   # False: every move costs the same (a baseline, not the RTL)
 
     def __post_init__(self) -> None:
         if not 2 <= self.axes <= 6:
@@ -133,12 +165,10 @@ class CoreModel:
         self.o_err_code = 0
         self.o_underrun = 0
         self.abort_pin = 0          # abort as last driven: tready depends on it
-        # statistics (not ports): clocks that moved, that a running segment
-        # was held by feed or STEP/DIR timing, and that work was waiting but
-        # no segment was running after the first move (sequencing bubbles)
-        self.stat_moves = 0
-        self.stat_held = 0
-        self.stat_starved = 0
+
+    def move_cost(self, diagonal: bool) -> int:
+        """Credit a move needs: a diagonal arc move is sqrt(2) times as long."""
+        return COST_DIAG if diagonal else COST_AXIS
 
     def _abort(self) -> None:
         """An edge with abort high: no move, everything not yet moved dropped."""
@@ -183,92 +213,108 @@ class CoreModel:
             err_code=self.o_err_code, underrun=self.o_underrun,
         )
 
+    # -- combinational views ------------------------------------------
+    def head_view(self) -> HeadView:
+        """Dispatcher: decode the queue head (when nothing is in flight) and
+        see which unit takes it; the units' reject pulses of this cycle."""
+        h = HeadView()
+        if self.inflight is None and self.queue:
+            dec = decode_for_core(self.queue[0], self.axes, self.width)
+            if dec[0] == "err":
+                h.pop, h.err_code = True, dec[1]
+            elif dec[0] == "nop":
+                h.pop = True
+            else:
+                h.cmd = dec
+                unit = self.arc if dec[0] == "arc" else self.line
+                if unit.outputs().s_ready:
+                    h.take, h.pop = dec[0], True
+        arc_o, line_o = self.arc.outputs(), self.line.outputs()
+        if arc_o.reject:
+            h.err_code = ARC_ERR_MAP[arc_o.err_code]
+        if line_o.reject:
+            h.err_code = enc.E_OPCODE  # empty lines never reach the unit
+        h.inflight_clear = bool(arc_o.reject or line_o.reject)
+        return h
+
+    def move_view(self) -> MoveView:
+        """go: the running unit's next move is made when every axis it steps
+        is ready for its direction and the credit covers its cost."""
+        m = MoveView(steps=[0] * self.axes)
+        m.unit = self._running()
+        if m.unit is None:
+            return m
+        m.rate, m.cont = self.act[m.unit]
+        m.steps, diagonal = self._peek(m.unit)
+        m.cost = self.move_cost(diagonal)
+        ready = all(
+            s == 0 or (sg.outputs(c).ready_pos if s > 0 else sg.outputs(c).ready_neg)
+            for s, sg, c in zip(m.steps, self.stepgens, self.cfg)
+        )
+        m.go = ready and self.credit >= m.cost
+        return m
+
+    # -- the edge, section by section -----------------------------------
     def clock(self, i: CoreInputs) -> None:
         if i.rst:
             self.reset()
             return
         self.abort_pin = i.abort
-        ov_sampled = min(i.override, OVERRIDE_MAX)
+        override = min(i.override, OVERRIDE_MAX)
         if i.abort:
-            self.ov_in = ov_sampled
+            self.ov_in = override
             self._abort()
             return
-        unit = self._running()
-        arc_o, line_o = self.arc.outputs(), self.line.outputs()
+        head = self.head_view()
+        move = self.move_view()
+        self._clock_queue(i, head)
+        self._clock_dispatcher(head)
+        ending, loading = self._clock_units(head, move)
+        self._clock_feed(move, override)
+        self._clock_stepgens(move)
+        self._clock_status(head, move, ending, loading)
 
-        # --- go: feed credit and step/dir readiness for the next move ---
-        go = False
-        steps: list[int] = [0] * self.axes
-        cost = COST_AXIS
-        if unit is not None:
-            steps, diag = self._peek(unit)
-            cost = COST_DIAG if (diag and self.diag_weighting) else COST_AXIS
-            ready = all(
-                s == 0 or (sg.outputs(c).ready_pos if s > 0 else sg.outputs(c).ready_neg)
-                for s, sg, c in zip(steps, self.stepgens, self.cfg)
-            )
-            go = ready and self.credit >= cost
-            if go:
-                self.stat_moves += 1
-            else:
-                self.stat_held += 1
-        elif self.stat_moves and (self.queue or self.inflight is not None
-                                  or self.arc.vstate or self.line.vstate):
-            self.stat_starved += 1
+    def _clock_queue(self, i: CoreInputs, head: HeadView) -> None:
+        """Pop the head if it left; push a beat (tready from the level before the edge)."""
+        push = i.tvalid and len(self.queue) < self.depth
+        if head.pop:
+            self.queue.pop(0)
+        if push:
+            self.queue.append(i.tdata)
 
-        # --- dispatcher (combinational on the queue head) ---
-        disp_valid = {"arc": 0, "line": 0}
-        disp_cmd = None
-        pop = False
-        err_code = 0
-        if self.inflight is None and self.queue:
-            dec = decode_for_core(self.queue[0], self.axes, self.width)
-            if dec[0] == "err":
-                pop, err_code = True, dec[1]
-            elif dec[0] == "nop":
-                pop = True
-            else:
-                disp_cmd = dec
-                disp_valid[dec[0]] = 1
-        # unit rejects seen this cycle (registered pulses)
-        if arc_o.reject:
-            err_code = ARC_ERR_MAP[arc_o.err_code]
-        if line_o.reject:
-            err_code = enc.E_OPCODE  # empty lines never reach the unit
-        inflight_clear = bool(arc_o.reject or line_o.reject)
+    def _clock_dispatcher(self, head: HeadView) -> None:
+        """The command handed to a unit is in flight; its rate and CONT wait
+        beside the unit until the segment starts."""
+        if head.take is not None:
+            self.inflight = head.take
+            self.pend[head.take] = (head.cmd[2], head.cmd[3])
 
-        rate = self.act[unit][0] if unit is not None else 0
-        cont = self.act[unit][1] if unit is not None else False
-
-        # --- clock the units: the running one first, its `last` gates the other ---
+    def _clock_units(self, head: HeadView, move: MoveView) -> tuple[bool, str | None]:
+        """Clock both units, the running one first: its last move at this edge
+        lets the other start its pending segment on the same edge.  Returns
+        (the running segment ended, the unit that loaded a segment)."""
         ending = False
         loading = None
-        order = ["arc", "line"] if unit != "line" else ["line", "arc"]
+        order = ["arc", "line"] if move.unit != "line" else ["line", "arc"]
         for u in order:
-            other_idle_or_ending = (unit is None) or (unit == u) or ending
+            other_idle_or_ending = (move.unit is None) or (move.unit == u) or ending
+            offer = head.take == u
             if u == "arc":
-                model, o = self.arc, arc_o
-                if disp_cmd is not None and disp_cmd[0] == "arc":
-                    cw, xs, ys, xe, ye = disp_cmd[1]
+                model, hold = self.arc, V_HOLD
+                if offer:
+                    cw, xs, ys, xe, ye = head.cmd[1]
                     inp = ArcInputs(s_valid=1, s_cw=cw, s_xs=xs, s_ys=ys, s_xe=xe, s_ye=ye)
                 else:
                     inp = ArcInputs()
             else:
-                model, o = self.line, line_o
-                if disp_cmd is not None and disp_cmd[0] == "line":
-                    inp = LineInputs(s_valid=1, s_delta=disp_cmd[1])
-                else:
-                    inp = LineInputs(s_delta=(0,) * self.axes)
-            inp.en = int(go and unit == u)
+                model, hold = self.line, L_HOLD
+                inp = LineInputs(s_valid=1, s_delta=head.cmd[1]) if offer \
+                    else LineInputs(s_delta=(0,) * self.axes)
+            inp.en = int(move.go and move.unit == u)
             inp.start_en = int(other_idle_or_ending)
-            if disp_valid[u] and o.s_ready:
-                pop = True
-                self.inflight = u
-                self.pend[u] = (disp_cmd[2], disp_cmd[3])
-            hold = V_HOLD if u == "arc" else L_HOLD
             holding = model.vstate == hold
             model.clock(inp)
-            if unit == u and model.outputs().done:
+            if move.unit == u and model.outputs().done:
                 ending = True
             if holding and model.vstate != hold:
                 loading = u
@@ -276,39 +322,38 @@ class CoreModel:
             self.act[loading] = self.pend[loading]
             if self.inflight == loading:
                 self.inflight = None
-        if inflight_clear:
+        if head.inflight_clear:
             self.inflight = None
+        return ending, loading
 
-        # --- underrun: a CONT segment ended and nothing started at this edge ---
-        if ending and cont and loading is None:
-            self.o_underrun = 1
-
-        # --- feed-rate credit ---
+    def _clock_feed(self, move: MoveView, override: int) -> None:
+        """Credit += rate x k - cost of the move made; k from the registered
+        override (k computed a clock ahead in the RTL, the same here)."""
         ov = self.ov_in
-        self.ov_in = ov_sampled
+        self.ov_in = override
         s = self.ov_acc + ov
         k = 2 if s >= 200 else 1 if s >= 100 else 0
         self.ov_acc = s - 100 * k
-        credit = self.credit + rate * k - (cost if go else 0)
+        credit = self.credit + move.rate * k - (move.cost if move.go else 0)
         self.credit = min(credit, CREDIT_CAP)
 
-        # --- step/dir generators, positions ---
-        for k_ax, (sg, c) in enumerate(zip(self.stepgens, self.cfg)):
-            st = steps[k_ax] if go else 0
+    def _clock_stepgens(self, move: MoveView) -> None:
+        """A step request to every axis the move steps; positions follow."""
+        for axis, (sg, c) in enumerate(zip(self.stepgens, self.cfg)):
+            st = move.steps[axis] if move.go else 0
             sg.clock(c, StepInputs(req=int(st != 0), req_dir=int(st > 0)))
             if st:
-                self.pos[k_ax] = wrap(self.pos[k_ax] + st, self.width)
-        self.o_move = int(go)
+                self.pos[axis] = wrap(self.pos[axis] + st, self.width)
+        self.o_move = int(move.go)
 
-        # --- queue (tready was computed from the level before this edge) ---
-        push = i.tvalid and len(self.queue) < self.depth
-        if pop:
-            self.queue.pop(0)
-        if push:
-            self.queue.append(i.tdata)
-        self.o_err = int(err_code != 0)
-        if err_code:
-            self.o_err_code = err_code
+    def _clock_status(self, head: HeadView, move: MoveView, ending: bool,
+                      loading: str | None) -> None:
+        """err / err_code; underrun: a CONT segment ended and nothing started."""
+        if ending and move.cont and loading is None:
+            self.o_underrun = 1
+        self.o_err = int(head.err_code != 0)
+        if head.err_code:
+            self.o_err_code = head.err_code
 
 
 @dataclass
