@@ -79,7 +79,7 @@ def instantiated(text: str, known) -> set[str]:
     text = strip_comments(text)
     used = set()
     for name in known:
-        pattern = rf"(?<![\w`$.])(?<!module\s){name}\s*(?:#\s*\(|[A-Za-z_]\w*\s*\()"
+        pattern = rf"(?<![\w`$.]){name}\b\s*(?:#\s*\(|[A-Za-z_]\w*\s*\()"
         for m in re.finditer(pattern, text):
             if not re.search(r"\bmodule\s+$", text[:m.start()]):
                 used.add(name)
@@ -116,7 +116,8 @@ def test_instantiation_reader_on_planted_sources(tmp_path):
         "    top_illegal_parameter u_bad ();\n"
         "endmodule\n")
     (tmp_path / "sub.v").write_text("module sub #(parameter W = 8) (input clk);\nendmodule\n")
-    (tmp_path / "leaf.v").write_text("module leaf (input clk);\nendmodule\n")
+    (tmp_path / "leaf.v").write_text(
+        "module leaf (input clk);\n    sub_illegal_parameter u_bad ();\nendmodule\n")
     (tmp_path / "ghost.v").write_text("module ghost (input clk);\nendmodule\n")
     modules = rtl_modules(tmp_path)
     assert set(modules) == {"top", "sub", "leaf", "ghost"}
@@ -124,6 +125,7 @@ def test_instantiation_reader_on_planted_sources(tmp_path):
     assert {p.name for p in files} == {"top.v", "sub.v", "leaf.v"}
     assert headers == {"defs.vh"}
     assert closure("sub", modules)[0] == {tmp_path / "sub.v"}
+    assert closure("leaf", modules)[0] == {tmp_path / "leaf.v"}
 
 
 # ------------------------------------------------------------------ core file
@@ -214,12 +216,10 @@ def test_fusesoc_core_show(tmp_path):
     assert {"default", "lint", "lint_uart_top"} <= targets, proc.stdout
 
 
-def run_lint(tmp_path: Path, target: str, *params: str) -> tuple[subprocess.CompletedProcess, Path]:
-    build = tmp_path / "build"
-    proc = fusesoc(tmp_path, "run", "--build-root", str(build), "--target", target, vlnv(),
-                   *params)
-    work = build / vlnv().split(":")[2].replace(":", "_")
-    return proc, work
+def run_lint(tmp_path: Path, target: str, *params: str) -> subprocess.CompletedProcess:
+    """``fusesoc run --target TARGET`` with its build directory in tmp_path/build."""
+    return fusesoc(tmp_path, "run", "--build-root", str(tmp_path / "build"), "--target", target,
+                   vlnv(), *params)
 
 
 @pytest.mark.parametrize("target, params", [
@@ -228,7 +228,7 @@ def run_lint(tmp_path: Path, target: str, *params: str) -> tuple[subprocess.Comp
     ("lint_uart_top", ["--CLK_HZ=12000000", "--BTN_ACTIVE_LOW=1"]),
 ])
 def test_fusesoc_lint(tmp_path, target, params):
-    proc, _ = run_lint(tmp_path, target, *params)
+    proc = run_lint(tmp_path, target, *params)
     assert proc.returncode == 0, proc.stdout + proc.stderr
     (work,) = (tmp_path / "build").glob(f"*/{target}-verilator")
     config = (work / "config.mk").read_text()
@@ -248,7 +248,7 @@ def test_fusesoc_lint(tmp_path, target, params):
 
 def test_fusesoc_lint_fails_on_an_illegal_parameter(tmp_path):
     """W=7 elaborates the core's illegal-parameter instance: the lint must fail."""
-    proc, _ = run_lint(tmp_path, "lint", "--W=7")
+    proc = run_lint(tmp_path, "lint", "--W=7")
     assert proc.returncode != 0, proc.stdout + proc.stderr
     assert "illegal_parameter_W" in proc.stdout + proc.stderr
 
