@@ -6,8 +6,9 @@
 // ============================================================================
 // Receives bytes at BAUD (8 data bits, no parity, 1 stop bit, LSB first),
 // assembles 32 of them into one command word (byte k -> m_axis_tdata[8k+7:8k],
-// i.e. the command's little-endian byte string, see model/halfpoint/
-// encoding.py) and offers it on m_axis.  When the core takes the word
+// i.e. the command's little-endian byte string; the width comes from the
+// generated halfpoint_cmd.vh, see model/halfpoint/spec/encoding.py) and
+// offers it on m_axis.  When the core takes the word
 // (tvalid & tready) one acknowledge byte is sent on `tx`:
 //
 //   bit 7    1 (marks an acknowledge)
@@ -30,42 +31,57 @@
 // confirmed at its middle, data bits are sampled at their middles, a low
 // stop bit is a framing error (byte dropped, flagged).
 //
-// Parameters:
-//   CLK_HZ     clock frequency in Hz
-//   BAUD       bit rate; CLK_HZ / BAUD must be at least 8
-//   IDLE_BITS  bit times of silence after which a partial word is discarded,
-//              12..1000
+// Parameters: see the comment above each (an illegal value stops
+// elaboration).
 //
 // Reset: synchronous, active high; clears the partial word, the pending word,
 // the flags and the transmitter (tx idles high).
 // ============================================================================
+`include "halfpoint_cmd.vh"
+
 module halfpoint_uart_cmd #(
+    // clock frequency in Hz
     parameter integer CLK_HZ    = 12000000,
+    // bit rate; CLK_HZ / BAUD must be at least 8
     parameter integer BAUD      = 115200,
+    // bit times of silence after which a partial word is discarded, 12..1000
     parameter integer IDLE_BITS = 40
 ) (
-    input  wire         clk,
-    input  wire         rst,
-    // serial line
-    input  wire         rx,
-    output wire         tx,
-    // commands to the motion core
-    output wire         m_axis_tvalid,
-    input  wire         m_axis_tready,
-    output wire [255:0] m_axis_tdata,
-    // the core's reject report
-    input  wire         cmd_err,
-    input  wire [3:0]   cmd_err_code
+    input  wire                           clk,
+    input  wire                           rst,
+
+    /*
+     * Serial line (8N1)
+     */
+    input  wire                           rx,
+    output wire                           tx,
+
+    /*
+     * Commands to the motion core (AXI4-Stream master, one command per beat)
+     */
+    output wire                           m_axis_tvalid,
+    input  wire                           m_axis_tready,
+    output wire [`HALFPOINT_CMD_BITS-1:0] m_axis_tdata,
+
+    /*
+     * The core's reject report (its err and err_code outputs)
+     */
+    input  wire                           cmd_err,
+    input  wire [`HALFPOINT_ERR_CODE_BITS-1:0] cmd_err_code
 );
 
-    localparam integer CPB = CLK_HZ / BAUD;        // clocks per bit
-    localparam integer CW  = $clog2(CPB * IDLE_BITS + 1);
-    localparam [31:0]  CPB_32   = CPB;
-    localparam [31:0]  HALF_32  = CPB / 2 - 1;
-    localparam [31:0]  IDLE_32  = CPB * IDLE_BITS;
-    wire [CW-1:0] cpb_w     = CPB_32[CW-1:0];
-    wire [CW-1:0] half_w    = HALF_32[CW-1:0];
-    wire [CW-1:0] idle_clks = IDLE_32[CW-1:0];
+    localparam integer CLOCKS_PER_BIT = CLK_HZ / BAUD;
+    localparam integer COUNT_W        = $clog2(CLOCKS_PER_BIT * IDLE_BITS + 1);
+    localparam [31:0]  CLOCKS_PER_BIT_32 = CLOCKS_PER_BIT;
+    localparam [31:0]  HALF_BIT_32       = CLOCKS_PER_BIT / 2 - 1;
+    localparam [31:0]  IDLE_CLOCKS_32    = CLOCKS_PER_BIT * IDLE_BITS;
+    localparam integer CMD_BYTES    = `HALFPOINT_CMD_BITS / 8;     // bytes of a command
+    localparam integer BYTE_COUNT_W = $clog2(CMD_BYTES);
+    localparam [31:0]  LAST_BYTE_32 = CMD_BYTES - 1;
+    localparam [BYTE_COUNT_W-1:0] LAST_BYTE = LAST_BYTE_32[BYTE_COUNT_W-1:0];
+    wire [COUNT_W-1:0] clocks_per_bit = CLOCKS_PER_BIT_32[COUNT_W-1:0];
+    wire [COUNT_W-1:0] half_bit       = HALF_BIT_32[COUNT_W-1:0];
+    wire [COUNT_W-1:0] idle_clocks    = IDLE_CLOCKS_32[COUNT_W-1:0];
 
     generate
         if (BAUD <= 0 || CLK_HZ / BAUD < 8) begin : g_bad_baud
@@ -77,14 +93,14 @@ module halfpoint_uart_cmd #(
     endgenerate
 
     // ---------------------------------------------------------------- receiver
-    reg [1:0]    rx_sync_q;
-    wire         rx_s = rx_sync_q[1];
-    reg          rx_busy_q;
-    reg [3:0]    rx_bit_q;          // 0 = start bit, 1..8 = data, 9 = stop
-    reg [CW-1:0] rx_cnt_q;          // clocks to the next sample point
-    reg [7:0]    rx_shift_q;
-    reg          byte_valid_q;      // a good byte in rx_shift_q (one clock)
-    reg          frame_err_q;       // a bad stop bit or start glitch (one clock)
+    reg [1:0]         rx_sync_q;
+    wire              rx_synced = rx_sync_q[1];
+    reg               rx_busy_q;
+    reg [3:0]         rx_bit_q;         // 0 = start bit, 1..8 = data, 9 = stop
+    reg [COUNT_W-1:0] rx_count_q;       // clocks to the next sample point
+    reg [7:0]         rx_shift_q;
+    reg               byte_valid_q;     // a good byte in rx_shift_q (one clock)
+    reg               frame_err_q;      // a bad stop bit or start glitch (one clock)
 
     always @(posedge clk) begin
         if (rst) begin
@@ -100,78 +116,79 @@ module halfpoint_uart_cmd #(
         if (rst) begin
             rx_busy_q  <= 1'b0;
             rx_bit_q   <= 4'd0;
-            rx_cnt_q   <= {CW{1'b0}};
+            rx_count_q <= {COUNT_W{1'b0}};
             rx_shift_q <= 8'd0;
         end else if (!rx_busy_q) begin
-            if (!rx_s) begin
+            if (!rx_synced) begin
                 // falling edge of a start bit: look again at its middle
                 rx_busy_q <= 1'b1;
                 rx_bit_q  <= 4'd0;
-                rx_cnt_q  <= half_w;
+                rx_count_q <= half_bit;
             end
-        end else if (rx_cnt_q != {CW{1'b0}}) begin
-            rx_cnt_q <= rx_cnt_q - 1'b1;
+        end else if (rx_count_q != {COUNT_W{1'b0}}) begin
+            rx_count_q <= rx_count_q - 1'b1;
         end else begin
-            rx_cnt_q <= cpb_w - 1'b1;
+            rx_count_q <= clocks_per_bit - 1'b1;
             if (rx_bit_q == 4'd0) begin
-                if (rx_s) begin
+                if (rx_synced) begin
                     rx_busy_q <= 1'b0;          // a glitch, not a start bit
                 end
                 rx_bit_q <= 4'd1;
             end else if (rx_bit_q != 4'd9) begin
-                rx_shift_q <= {rx_s, rx_shift_q[7:1]};
+                rx_shift_q <= {rx_synced, rx_shift_q[7:1]};
                 rx_bit_q   <= rx_bit_q + 1'b1;
             end else begin
                 // stop bit: wait for the line to be high again before idling
                 rx_busy_q    <= 1'b0;
-                byte_valid_q <= rx_s;
-                frame_err_q  <= !rx_s;
+                byte_valid_q <= rx_synced;
+                frame_err_q  <= !rx_synced;
             end
         end
     end
 
     // --------------------------------------------------------------- assembler
-    reg [255:0]  word_q;
-    reg [4:0]    nbytes_q;          // bytes of the word received so far
-    reg          full_q;            // word_q waits for the core
-    reg [CW-1:0] idle_q;            // clocks of silence since the last byte
-    reg          line_err_q;        // sticky until the next acknowledge
-    reg          cmd_err_q;
-    reg [3:0]    cmd_code_q;
-    reg          ack_req_q;         // an acknowledge byte is to be sent
-    reg [7:0]    ack_byte_q;
-    wire         take = full_q && m_axis_tready;
-    wire         ack_start;          // the transmitter takes the acknowledge
+    reg [`HALFPOINT_CMD_BITS-1:0]      word_q;
+    reg [BYTE_COUNT_W-1:0]             byte_count_q;  // bytes of the word received so far
+    reg                                full_q;        // word_q waits for the core
+    reg [COUNT_W-1:0]                  idle_count_q;  // clocks of silence since the last byte
+    reg                                line_err_q;    // sticky until the next acknowledge
+    reg                                cmd_err_q;
+    reg [`HALFPOINT_ERR_CODE_BITS-1:0] cmd_code_q;
+    reg                                ack_req_q;     // an acknowledge byte is to be sent
+    reg [7:0]                          ack_byte_q;
+    wire                               take = full_q && m_axis_tready;
+    wire                               ack_start;     // the transmitter takes the acknowledge
 
     always @(posedge clk) begin
         if (rst) begin
-            word_q     <= 256'd0;
-            nbytes_q   <= 5'd0;
-            full_q     <= 1'b0;
-            idle_q     <= {CW{1'b0}};
-            line_err_q <= 1'b0;
-            cmd_err_q  <= 1'b0;
-            cmd_code_q <= 4'd0;
-            ack_req_q  <= 1'b0;
-            ack_byte_q <= 8'd0;
+            word_q       <= {`HALFPOINT_CMD_BITS{1'b0}};
+            byte_count_q <= {BYTE_COUNT_W{1'b0}};
+            full_q       <= 1'b0;
+            idle_count_q <= {COUNT_W{1'b0}};
+            line_err_q   <= 1'b0;
+            cmd_err_q    <= 1'b0;
+            cmd_code_q   <= {`HALFPOINT_ERR_CODE_BITS{1'b0}};
+            ack_req_q    <= 1'b0;
+            ack_byte_q   <= 8'd0;
         end else begin
             if (byte_valid_q || rx_busy_q) begin
-                idle_q <= {CW{1'b0}};
-            end else if (idle_q != idle_clks) begin
-                idle_q <= idle_q + 1'b1;
+                idle_count_q <= {COUNT_W{1'b0}};
+            end else if (idle_count_q != idle_clocks) begin
+                idle_count_q <= idle_count_q + 1'b1;
             end
             if (byte_valid_q) begin
                 if (full_q) begin
                     line_err_q <= 1'b1;         // host did not wait: byte dropped
                 end else begin
-                    word_q   <= {rx_shift_q, word_q[255:8]};
-                    nbytes_q <= nbytes_q + 1'b1;
-                    if (nbytes_q == 5'd31) begin
+                    word_q       <= {rx_shift_q, word_q[`HALFPOINT_CMD_BITS-1:8]};
+                    byte_count_q <= byte_count_q + 1'b1;
+                    if (byte_count_q == LAST_BYTE) begin
                         full_q <= 1'b1;
                     end
                 end
-            end else if (idle_q == idle_clks - 1'b1 && nbytes_q != 5'd0) begin
-                nbytes_q   <= 5'd0;             // an unfinished word: discard
+            end else if (idle_count_q == idle_clocks - 1'b1 &&
+                         byte_count_q != {BYTE_COUNT_W{1'b0}}) begin
+                byte_count_q <= {BYTE_COUNT_W{1'b0}};   // an unfinished word: discard
                 line_err_q <= 1'b1;
             end
             if (frame_err_q) begin
@@ -190,7 +207,7 @@ module halfpoint_uart_cmd #(
                                cmd_err ? cmd_err_code : cmd_code_q};
                 line_err_q <= 1'b0;
                 cmd_err_q  <= 1'b0;
-                cmd_code_q <= 4'd0;
+                cmd_code_q <= {`HALFPOINT_ERR_CODE_BITS{1'b0}};
             end else if (ack_start) begin
                 ack_req_q <= 1'b0;
             end
@@ -201,10 +218,10 @@ module halfpoint_uart_cmd #(
     assign m_axis_tdata  = word_q;
 
     // ------------------------------------------------------------- transmitter
-    reg [9:0]    tx_shift_q;        // stop, data[7:0], start; LSB on the line
-    reg [3:0]    tx_left_q;         // bit times still to send: 10 bits + 1 whole stop bit
-    reg [CW-1:0] tx_cnt_q;
-    reg          tx_q;
+    reg [9:0]         tx_shift_q;       // stop, data[7:0], start; LSB on the line
+    reg [3:0]         tx_left_q;        // bit times still to send: 10 bits + 1 whole stop bit
+    reg [COUNT_W-1:0] tx_count_q;
+    reg               tx_q;
 
     assign ack_start = ack_req_q && tx_left_q == 4'd0;
 
@@ -212,22 +229,22 @@ module halfpoint_uart_cmd #(
         if (rst) begin
             tx_shift_q <= 10'h3ff;
             tx_left_q  <= 4'd0;
-            tx_cnt_q   <= {CW{1'b0}};
+            tx_count_q <= {COUNT_W{1'b0}};
             tx_q       <= 1'b1;
         end else if (tx_left_q == 4'd0) begin
             tx_q <= 1'b1;
             if (ack_req_q) begin
                 tx_shift_q <= {1'b1, ack_byte_q, 1'b0};
                 tx_left_q  <= 4'd11;
-                tx_cnt_q   <= {CW{1'b0}};
+                tx_count_q <= {COUNT_W{1'b0}};
             end
-        end else if (tx_cnt_q != {CW{1'b0}}) begin
-            tx_cnt_q <= tx_cnt_q - 1'b1;
+        end else if (tx_count_q != {COUNT_W{1'b0}}) begin
+            tx_count_q <= tx_count_q - 1'b1;
         end else begin
             tx_q       <= tx_shift_q[0];
             tx_shift_q <= {1'b1, tx_shift_q[9:1]};
             tx_left_q  <= tx_left_q - 1'b1;
-            tx_cnt_q   <= cpb_w - 1'b1;
+            tx_count_q <= clocks_per_bit - 1'b1;
         end
     end
 

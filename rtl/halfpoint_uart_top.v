@@ -6,10 +6,10 @@
 // ============================================================================
 // The top that constraints/ maps onto two boards (iCE40-HX8K Breakout Board:
 // constraints/hx8k_breakout.pcf; ULX3S with LFE5U-25F: constraints/
-// ulx3s.lpf).  A host sends 32-byte commands (model/halfpoint/encoding.py,
-// little-endian) over the board's USB serial port and waits for one
-// acknowledge byte per command (halfpoint_uart_cmd); the core's queue keeps
-// the motion going meanwhile.
+// ulx3s.lpf).  A host sends 32-byte commands (model/halfpoint/spec/
+// encoding.py, little-endian; halfpoint_cmd.vh is generated from it) over
+// the board's USB serial port and waits for one acknowledge byte per command
+// (halfpoint_uart_cmd); the core's queue keeps the motion going meanwhile.
 //
 //   step[i], dir[i]  STEP/DIR of axis i (timing below, active high)
 //   enable_n         low while the drivers may move: high during reset and
@@ -26,43 +26,63 @@
 // synchronised reset button, gives the synchronous active-high reset the
 // modules use.
 //
-// Parameters:
-//   CLK_HZ      board clock in Hz (the core runs on it directly)
-//   BAUD        serial bit rate; CLK_HZ / BAUD >= 8
-//   NA, W, DEPTH  the core's axes (2..6), coordinate width (8..32) and
-//               queue depth (power of two), see halfpoint_core
-//   STEPLEN, STEPSPACE, DIRSETUP, DIRHOLD
-//               STEP/DIR timing in clocks for every axis, 1..65535
-//   BTN_ACTIVE_LOW  1 when the buttons pull the pin low when pressed
+// Parameters: see the comment above each (an illegal value stops
+// elaboration).
 // ============================================================================
+`include "halfpoint_cmd.vh"
+
 module halfpoint_uart_top #(
+    // board clock in Hz (the core runs on it directly)
     parameter integer CLK_HZ         = 12000000,
+    // serial bit rate; CLK_HZ / BAUD >= 8
     parameter integer BAUD           = 115200,
+    // the core's axes (2..6), see halfpoint_core
     parameter integer NA             = 3,
+    // the core's coordinate and position width, 8..32
     parameter integer W              = 32,
+    // the core's queue depth, a power of two, 2..256
     parameter integer DEPTH          = 16,
+    // STEP/DIR timing in clocks for every axis, 1..65535 each
     parameter integer STEPLEN        = 24,
     parameter integer STEPSPACE      = 24,
     parameter integer DIRSETUP       = 24,
     parameter integer DIRHOLD        = 24,
+    // 1 when the buttons pull the pin low when pressed, else 0
     parameter integer BTN_ACTIVE_LOW = 0
 ) (
     input  wire          clk,
+
+    /*
+     * Buttons (asynchronous; synchronised here)
+     */
     input  wire          btn_reset,
     input  wire          btn_abort,
+
+    /*
+     * Serial port to the host
+     */
     input  wire          uart_rx,
     output wire          uart_tx,
+
+    /*
+     * STEP/DIR/ENABLE to the drivers
+     */
     output wire [NA-1:0] step,
     output wire [NA-1:0] dir,
     output wire          enable_n,
+
+    /*
+     * Status LEDs
+     */
     output wire [7:0]    led
 );
 
-    localparam integer TW = 16;
+    localparam integer TW = 16;     // width of the core's timing settings
 
     generate
         if (STEPLEN < 1 || STEPLEN > 65535 || STEPSPACE < 1 || STEPSPACE > 65535 ||
-            DIRSETUP < 1 || DIRSETUP > 65535 || DIRHOLD < 1 || DIRHOLD > 65535) begin : g_bad_timing
+            DIRSETUP < 1 || DIRSETUP > 65535 || DIRHOLD < 1 || DIRHOLD > 65535)
+        begin : g_bad_timing
             halfpoint_uart_top_illegal_parameter_step_timing_must_be_1_to_65535 u_bad ();
         end
         if (BTN_ACTIVE_LOW != 0 && BTN_ACTIVE_LOW != 1) begin : g_bad_btn
@@ -71,36 +91,36 @@ module halfpoint_uart_top #(
     endgenerate
 
     // ------------------------------------------------------------------ reset
-    reg [4:0] por_q;                 // power-on: counts to 16 after configuration
-    reg [1:0] rst_btn_q;
-    reg [1:0] abort_btn_q;
+    reg [4:0] power_on_count_q;     // counts to 16 after configuration
+    reg [1:0] reset_button_q;       // synchroniser
+    reg [1:0] abort_button_q;       // synchroniser
     reg       rst_q;
 
     // configuration values of the power-on reset (FPGA flip-flops take them)
     initial begin
-        por_q       = 5'd0;
-        rst_btn_q   = 2'b00;
-        abort_btn_q = 2'b00;
-        rst_q       = 1'b1;
+        power_on_count_q = 5'd0;
+        reset_button_q   = 2'b00;
+        abort_button_q   = 2'b00;
+        rst_q            = 1'b1;
     end
-    wire      btn_reset_on = btn_reset ^ (BTN_ACTIVE_LOW != 0);
-    wire      btn_abort_on = btn_abort ^ (BTN_ACTIVE_LOW != 0);
+    wire      reset_pressed = btn_reset ^ (BTN_ACTIVE_LOW != 0);
+    wire      abort_pressed = btn_abort ^ (BTN_ACTIVE_LOW != 0);
 
     always @(posedge clk) begin
-        rst_btn_q   <= {rst_btn_q[0], btn_reset_on};
-        abort_btn_q <= {abort_btn_q[0], btn_abort_on};
-        if (!por_q[4]) begin
-            por_q <= por_q + 1'b1;
+        reset_button_q <= {reset_button_q[0], reset_pressed};
+        abort_button_q <= {abort_button_q[0], abort_pressed};
+        if (!power_on_count_q[4]) begin
+            power_on_count_q <= power_on_count_q + 1'b1;
         end
-        rst_q <= !por_q[4] || rst_btn_q[1];
+        rst_q <= !power_on_count_q[4] || reset_button_q[1];
     end
 
     // ----------------------------------------------------------- serial port
-    wire         cmd_valid;
-    wire         cmd_ready;
-    wire [255:0] cmd_data;
-    wire         err;
-    wire [3:0]   err_code;
+    wire                               cmd_valid;
+    wire                               cmd_ready;
+    wire [`HALFPOINT_CMD_BITS-1:0]      cmd_data;
+    wire                               err;
+    wire [`HALFPOINT_ERR_CODE_BITS-1:0] err_code;
 
     halfpoint_uart_cmd #(
         .CLK_HZ    (CLK_HZ),
@@ -123,10 +143,10 @@ module halfpoint_uart_top #(
     localparam [31:0] STEPSPACE_32 = STEPSPACE;
     localparam [31:0] DIRSETUP_32  = DIRSETUP;
     localparam [31:0] DIRHOLD_32   = DIRHOLD;
-    wire [TW-1:0] steplen_v   = STEPLEN_32[TW-1:0];
-    wire [TW-1:0] stepspace_v = STEPSPACE_32[TW-1:0];
-    wire [TW-1:0] dirsetup_v  = DIRSETUP_32[TW-1:0];
-    wire [TW-1:0] dirhold_v   = DIRHOLD_32[TW-1:0];
+    wire [TW-1:0] steplen_setting   = STEPLEN_32[TW-1:0];
+    wire [TW-1:0] stepspace_setting = STEPSPACE_32[TW-1:0];
+    wire [TW-1:0] dirsetup_setting  = DIRSETUP_32[TW-1:0];
+    wire [TW-1:0] dirhold_setting   = DIRHOLD_32[TW-1:0];
 
     wire [NA*W-1:0]         pos;
     wire                    move;
@@ -145,14 +165,14 @@ module halfpoint_uart_top #(
         .s_axis_tvalid (cmd_valid),
         .s_axis_tready (cmd_ready),
         .s_axis_tdata  (cmd_data),
-        .cfg_steplen   ({NA{steplen_v}}),
-        .cfg_stepspace ({NA{stepspace_v}}),
-        .cfg_dirsetup  ({NA{dirsetup_v}}),
-        .cfg_dirhold   ({NA{dirhold_v}}),
+        .cfg_steplen   ({NA{steplen_setting}}),
+        .cfg_stepspace ({NA{stepspace_setting}}),
+        .cfg_dirsetup  ({NA{dirsetup_setting}}),
+        .cfg_dirhold   ({NA{dirhold_setting}}),
         .cfg_step_inv  ({NA{1'b0}}),
         .cfg_dir_inv   ({NA{1'b0}}),
         .feed_override (8'd100),
-        .abort_now     (abort_btn_q[1]),
+        .abort_now     (abort_button_q[1]),
         .step_pin      (step),
         .dir_pin       (dir),
         .pos           (pos),
@@ -170,7 +190,7 @@ module halfpoint_uart_top #(
     // ----------------------------------------------------------------- status
     reg       err_seen_q;
     reg [3:0] level_q;
-    wire [31:0] level32 = {{(31 - $clog2(DEPTH)){1'b0}}, level};
+    wire [31:0] level_wide = {{(31 - $clog2(DEPTH)){1'b0}}, level};
     always @(posedge clk) begin
         if (rst_q) begin
             err_seen_q <= 1'b0;
@@ -179,12 +199,12 @@ module halfpoint_uart_top #(
             if (err) begin
                 err_seen_q <= 1'b1;
             end
-            level_q <= (level32 > 32'd15) ? 4'd15 : level32[3:0];
+            level_q <= (level_wide > 32'd15) ? 4'd15 : level_wide[3:0];
         end
     end
 
-    assign enable_n = rst_q | abort_btn_q[1];
-    assign led = {level_q, abort_btn_q[1], underrun, err_seen_q, busy};
+    assign enable_n = rst_q | abort_button_q[1];
+    assign led = {level_q, abort_button_q[1], underrun, err_seen_q, busy};
 
 endmodule
 

@@ -26,19 +26,28 @@
 //   bit cell   16'h69AA: D = 1 half 0x69 = ~(A ^ B ^ C); INIT[3:0] = 0xA = A
 //   carry-in   16'h0005: D = 1 half 0 (propagate 0); INIT[3:0] = 0x5 = ~A
 //
-// Parameters:
-//   WR    register width, 8..64
+// Parameters: see the comment above each (an illegal value stops
+// elaboration).
 //
 // Reset: synchronous, active high, clears acc.
 // ============================================================================
 module halfpoint_refloop_ccu2c #(
+    // register width, 8..64
     parameter integer WR = 34
 ) (
     input  wire          clk,
     input  wire          rst,
+
+    /*
+     * Operands, registered while load is high (b is not used, as in FOLD = 1)
+     */
     input  wire          load,
     input  wire [WR-1:0] a,
     input  wire [WR-1:0] b,
+
+    /*
+     * The loop register
+     */
     output wire [WR-1:0] acc
 );
     generate
@@ -48,43 +57,54 @@ module halfpoint_refloop_ccu2c #(
     endgenerate
 
     // slot 0: carry-in; slot j = 1..WR: bit j-1; slots above WR unused
-    localparam integer NC = (WR + 1) / 2 + 1;      // CCU2C cells
-    localparam integer NS = 2 * NC;                // half-cell slots
+    localparam integer CELLS = (WR + 1) / 2 + 1;    // CCU2C cells
+    localparam integer SLOTS = 2 * CELLS;           // half-cell slots
 
-    reg  [WR-1:0] a_q;
-    reg  [WR-1:0] acc_q;
-    wire          s = acc_q[WR-1];
-    wire [NS-1:0] sl_a, sl_b, sl_s;
-    wire [NC:0]   cy;
-    wire          unused_b = ^b;                    // b is not used by this loop
+    reg  [WR-1:0]    a_q;
+    reg  [WR-1:0]    acc_q;
+    wire             sign = acc_q[WR-1];
+    wire [SLOTS-1:0] slot_a, slot_b, slot_sum;
+    wire [CELLS:0]   carry;
+    wire             unused_b = ^b;                 // b is not used by this loop
 
-    assign sl_a = {{(NS - WR - 1){1'b0}}, acc_q, s};
-    assign sl_b = {{(NS - WR - 1){1'b0}}, a_q, 1'b0};
-    assign cy[0] = 1'b0;
+    assign slot_a = {{(SLOTS - WR - 1){1'b0}}, acc_q, sign};
+    assign slot_b = {{(SLOTS - WR - 1){1'b0}}, a_q, 1'b0};
+    assign carry[0] = 1'b0;
 
     genvar k;
     generate
-        for (k = 0; k < NC; k = k + 1) begin : g_cell
-            localparam [15:0] I0 = (k == 0) ? 16'h0005 : 16'h69AA;
-            localparam [15:0] I1 = (2 * k + 1 <= WR) ? 16'h69AA : 16'h0000;
+        for (k = 0; k < CELLS; k = k + 1) begin : g_cell
+            localparam [15:0] INIT_LOW  = (k == 0) ? 16'h0005 : 16'h69AA;
+            localparam [15:0] INIT_HIGH = (2 * k + 1 <= WR) ? 16'h69AA : 16'h0000;
             CCU2C #(
-                .INIT0(I0), .INIT1(I1), .INJECT1_0("NO"), .INJECT1_1("NO")
+                .INIT0     (INIT_LOW),
+                .INIT1     (INIT_HIGH),
+                .INJECT1_0 ("NO"),
+                .INJECT1_1 ("NO")
             ) u_ccu (
-                .CIN(cy[k]),
-                .A0(sl_a[2 * k]), .B0(sl_b[2 * k]), .C0(s), .D0(1'b1),
-                .A1(sl_a[2 * k + 1]), .B1(sl_b[2 * k + 1]), .C1(s), .D1(1'b1),
-                .S0(sl_s[2 * k]), .S1(sl_s[2 * k + 1]), .COUT(cy[k + 1])
+                .CIN  (carry[k]),
+                .A0   (slot_a[2 * k]),
+                .B0   (slot_b[2 * k]),
+                .C0   (sign),
+                .D0   (1'b1),
+                .A1   (slot_a[2 * k + 1]),
+                .B1   (slot_b[2 * k + 1]),
+                .C1   (sign),
+                .D1   (1'b1),
+                .S0   (slot_sum[2 * k]),
+                .S1   (slot_sum[2 * k + 1]),
+                .COUT (carry[k + 1])
             );
         end
     endgenerate
 
-    wire unused_ok = &{1'b0, unused_b, sl_s[0], sl_s[NS-1:WR+1], cy[NC]};
+    wire unused_ok = &{1'b0, unused_b, slot_sum[0], slot_sum[SLOTS-1:WR+1], carry[CELLS]};
 
     always @(posedge clk) begin
         if (rst) begin
             acc_q <= {WR{1'b0}};
         end else begin
-            acc_q <= sl_s[WR:1];
+            acc_q <= slot_sum[WR:1];
         end
     end
     always @(posedge clk) begin
