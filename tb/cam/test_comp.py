@@ -78,9 +78,10 @@ def test_strict_turns_the_skip_into_an_error_naming_the_line():
     "text, lineno, reason",
     [
         ("F100\nG41.1 D4 G1 X1\nX10\nG40 X12\nM2", 2, "lead-in move (1 mm) is shorter than the tool radius"),
-        ("F100\nG41.1 D2 G2 X2 Y0 I1\nG40 G1 X5\nM2", 2, "must be straight"),
-        ("F100\nG41.1 D2 G1 X10\nX20 Z-1\nG40 X30\nM2", 3, "Z must stay constant"),
-        ("F100\nG41.1 D2 G1 X10\nX20\nM2", 3, "ends with cutter compensation on"),
+        # the seed refused arc entries, Z moves while compensating and the end of
+        # the program with compensation on; LinuxCNC accepts them (issue 12)
+        ("F100\nG41.1 D2 G3 X0 Y0 I0.5\nG1 X10\nG40 G1 X12\nM2", 2, "entry arc"),
+        ("F100\nG41.1 D2 G1 X10\nG18 G2 X20 Z0 I5\nG40 G1 X30\nM2", 3, "in G17"),
         ("F100\nG41.1 D2 G1 X10\nG40 X20\nM2", 3, "lead-in move only"),
     ],
 )

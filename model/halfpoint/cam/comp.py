@@ -1,35 +1,53 @@
 # SPDX-License-Identifier: Apache-2.0
-"""Cutter radius compensation G41/G42/G40 with interference avoidance (seed 004).
+"""Cutter radius compensation G41/G42/G40: offset, trim by distance, check.
 
-For each compensated stretch (from the move that switches G41/G42 on to the
-G40 move):
+A compensated stretch is the run of moves read while G41/G42 is on.  Its
+first move with XY motion is the entry move, the rest is the contour; the
+first move after G40 is the exit move.  For each stretch:
 
-1. Every block of the contour is offset by the tool radius r to the tool's
-   side: lines sideways, arcs radially (R - r or R + r).  A concave arc whose
-   radius is smaller than the tool has no offset: it is skipped.
-2. Where two consecutive offsets leave a gap (an outside corner), an arc of
-   radius r about the programmed corner joins them: the tool rolls round the
-   corner (LinuxCNC's choice too), turning clockwise under G41 and
-   counter-clockwise under G42.  Where they cross (an inside corner), step 3
-   trims both to the crossing.
-3. Interference avoidance: the offset elements are scanned with a buffer of
-   the next `window` blocks.  If element i intersects a later element j in
-   the buffer (bounding boxes first, arcs by their quadrant-split pieces),
-   element i ends and element j starts at their intersection, and everything
-   between them is deleted; of all intersections of i with the buffer, the
-   one nearest the start of i is taken (the furthest j on a tie), so the
-   path leaves i where the first later element crosses it.
-   This removes the loops that tiny CAM segments produce, notches narrower
-   than the tool, and arcs smaller than the tool, without gouging.
-4. Whole programmed blocks that vanished in 2 or 3 are reported: a warning
-   naming the lines, or with ``strict`` an error naming the first one.
+1. Raw offset path (LinuxCNC's rules).  The entry move goes from the
+   uncompensated position to its programmed end offset by r perpendicular to
+   the entry move (LinuxCNC's ``convert_straight_comp1``; an arc as entry
+   move is reached by a straight move onto its offset start).  Every contour
+   block is offset by r to the tool's side: lines sideways, arcs radially
+   (R - r or R + r).  At each corner, a gap on the outside is joined by an
+   arc of radius r about the programmed corner; on the inside two crossing
+   offsets are trimmed to their crossing, and offsets that do not cross (tiny
+   chords, a concave arc smaller than the tool, which has no offset) are
+   joined by a straight connector through the tool's forbidden zone.  A
+   contour that ends where it began (a closed contour, entered anywhere) gets
+   the same join between its last and first block: its closing point is a
+   join, not a crossing.  Z-only moves keep their place between blocks; lines
+   that move Z carry Z along their offset.
+2. Interference as far as the tool reaches.  Every element of the raw path
+   is split where any other element crosses it; the pairs are found through
+   a uniform grid over the elements' boxes (``spatial.box_pairs``), so the
+   search reaches every element within the tool's reach, however many blocks
+   lie between.
+3. Distance test.  A piece is kept only if its midpoint is at least
+   ``r - 1e-7`` mm from every programmed block of the contour (connectors
+   never are).  The entry move is exempt, except for the stretch behind its
+   last crossing with the contour's offset when it meets the contour at an
+   inside corner (LinuxCNC trims it there).
+4. The path is followed from the entry through the kept pieces in program
+   order; where a piece ends at a crossing and the next piece was removed,
+   the path continues on the kept piece that leaves the crossing (the one
+   furthest on where the path touches itself).  A closed contour is followed
+   round until the point where the path joined it.  A kept stretch that
+   the path cannot reach (the tool would have to pass a gap narrower than
+   itself) is an error naming its lines.
+5. Programmed blocks the path no longer visits are reported (a warning
+   naming the lines; with ``strict`` an error naming the first one).
+6. The independent check (``check.gouges``, ``check.self_crossings``) runs
+   on the result: no point of the tool path between the entry and exit moves
+   closer than ``r - 1e-6`` mm to the programmed contour, no self-crossing;
+   a violation is an error naming the programmed lines.
 
-The entry move (the straight move that switches compensation on, at least r
-long, else an error naming the line) goes from the uncompensated position to
-its own offset end point, and the G40 move from its own offset start point to
-its uncompensated end; both take part in steps 2 and 3 like any block, so a
-notch right behind the entry is handled too (seed 004's test 2).  Within a compensated stretch Z
-must stay constant (2.5-D contouring) and arcs must be in G17.
+The exit move runs from the last point of the compensated path to its
+programmed end (LinuxCNC); G40 without a move, or the end of the program
+with compensation on, leaves the tool at the last point of the path.
+``window`` (the old interference window) is accepted and ignored: the
+search is no longer limited to a number of blocks.
 """
 
 from __future__ import annotations
@@ -37,10 +55,20 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from .gcode import GcodeError, Move
-from .geom import Arc, Line, intersect
+import numpy as np
 
-TOL = 1e-6
+from . import check
+from .gcode import GcodeError, Move
+from .geom import TAU, Arc, Line, intersect
+from .spatial import (A0, CX, CY, K, R, SW, X0, X1, Y0, Y1, box_pairs, boxes, element_distance,
+                      pack, point_distance)
+
+TOL = 1e-6              # the gouge check's tolerance (mm)
+KEEP_TOL = 1e-7         # a piece is kept at distance >= r - KEEP_TOL
+MIN_PIECE = 1e-9        # pieces shorter than this are points
+REACH_TOL = 1e-3        # a kept stretch shorter than this may stay unreached
+
+ENTRY, CONTOUR, CORNER, CONNECTOR, EXIT = range(5)
 
 
 @dataclass
@@ -48,6 +76,26 @@ class CompResult:
     moves: list[Move]
     warnings: list[str]
     skipped: list[int]
+
+
+@dataclass(eq=False, slots=True)
+class Piece:
+    el: object              # geom.Line or geom.Arc
+    src: int                # programmed line
+    role: int
+    kind: str               # "line", "rapid" or "arc"
+    feed: float
+    z0: float
+    z1: float
+    raw: int = -1           # index of the raw element it was cut from
+    t0: float = 0.0
+    t1: float = 1.0
+    valid: bool = True
+    events: list | None = None      # Z-only moves after this piece
+
+
+def _close(p, q, tol=TOL) -> bool:
+    return abs(p[0] - q[0]) <= tol and abs(p[1] - q[1]) <= tol and math.dist(p, q) <= tol
 
 
 def _offset(m: Move, side: str, r: float):
@@ -59,110 +107,35 @@ def _offset(m: Move, side: str, r: float):
         if rr <= TOL:
             return None
         return Arc(a.c, rr, a.a0, a.sweep, m.lineno)
-    t = Line(m.start[:2], m.end[:2]).tangent(0.0)
-    n = (-t[1], t[0]) if side == "left" else (t[1], -t[0])
-    return Line((m.start[0] + r * n[0], m.start[1] + r * n[1]),
-                (m.end[0] + r * n[0], m.end[1] + r * n[1]), m.lineno)
+    dx, dy = m.end[0] - m.start[0], m.end[1] - m.start[1]
+    n = math.hypot(dx, dy)
+    nx, ny = (-dy / n, dx / n) if side == "left" else (dy / n, -dx / n)
+    return Line((m.start[0] + r * nx, m.start[1] + r * ny),
+                (m.end[0] + r * nx, m.end[1] + r * ny), m.lineno)
 
 
-def _close(p, q, tol=TOL) -> bool:
-    return math.hypot(p[0] - q[0], p[1] - q[1]) <= tol
+def _sub(el, t0: float, t1: float, p0, p1):
+    """The part of element el between parameters t0 and t1 (end points given)."""
+    if type(el) is Line:
+        return Line(p0, p1, el.src, el.corner)
+    a = math.atan2(p0[1] - el.c[1], p0[0] - el.c[0])
+    return Arc(el.c, el.r, a, el.sweep * (t1 - t0), el.src, el.corner)
 
 
-def _crossing(a, b) -> bool:
-    """Do two consecutive offset elements cross (other than end to start)?"""
-    return any(not (_close(p, a.end) and _close(p, b.start)) for _, _, p in intersect(a, b))
+def _param(el, p) -> float:
+    t = el.param(p)
+    return 0.0 if t is None else t
 
 
-def offset_contour(contour: list[Move], side: str, r: float, window: int = 5,
-                   pin_start=None, pin_end=None):
-    """Offset elements of a contour after corner joins and interference removal.
-
-    ``pin_start`` / ``pin_end``: the first element starts / the last element
-    ends at this uncompensated point instead (the entry and G40 moves).
-    Returns (elements, skipped source lines of the inner blocks)."""
-    elems = []
-    prev_kept = None
-    for idx, m in enumerate(contour):
-        e = _offset(m, side, r)
-        if e is not None and idx == 0 and pin_start is not None:
-            e = Line(pin_start, e.end, m.lineno)
-        if e is not None and idx == len(contour) - 1 and pin_end is not None:
-            e = Line(e.start, pin_end, m.lineno)
-        if e is None:
-            prev_kept = None
-            continue
-        if prev_kept is not None:
-            pm, pe = prev_kept
-            # a gap between the offsets (the tool goes round the corner) gets
-            # an arc about the programmed corner; crossing offsets (an inside
-            # corner) are trimmed in the interference pass below
-            if not _close(pe.end, e.start) and not _crossing(pe, e):
-                elems.append(Arc.from_points(pm.end[:2], pe.end, e.start, side == "left",
-                                             src=m.lineno, corner=True, full_if_closed=False))
-        elems.append(e)
-        prev_kept = (m, e)
-
-    span = 2 * window               # corner joins travel with their block
-    boxes = [e.bbox() for e in elems]
-    out = []
-    i = 0
-    n_el = len(elems)
-    while i < n_el:
-        e = elems[i]
-        e_line = type(e) is Line or e.corner
-        found = None
-        ex0, ey0, ex1, ey1 = boxes[i]
-        ex0 -= 1e-9
-        ey0 -= 1e-9
-        ex1 += 1e-9
-        ey1 += 1e-9
-        for j in range(i + 1, min(n_el - 1, i + span) + 1):
-            fx0, fy0, fx1, fy1 = boxes[j]
-            if fx0 > ex1 or ex0 > fx1 or fy0 > ey1 or ey0 > fy1:
-                continue            # bounding boxes apart: no intersection
-            f = elems[j]
-            if j == i + 1 and (e_line or f.corner or type(f) is Line) and _close(e.end, f.start):
-                # joined neighbours: two lines meet once, and a corner arc is
-                # tangent to its neighbours, so the joint is their only contact
-                continue
-            for ta, tb, p in intersect(e, f):
-                if ta <= TOL and _close(p, e.start):
-                    continue        # the joint with the element before e
-                if j == i + 1 and _close(p, e.end) and _close(p, f.start):
-                    continue        # the ordinary joint with the next element
-                key = (ta, -j)
-                if found is None or key < found[0]:
-                    found = (key, j, p)
-        if found is not None:
-            _, j, p = found
-            out.append(e.with_end(p))
-            elems[j] = elems[j].with_start(p)
-            boxes[j] = elems[j].bbox()
-            i = j
-            continue
-        out.append(e)
-        i += 1
-    out = [e for e in out if e.length() > TOL]
-    # A trim at an element's start can move it past the crossing with its
-    # successor; the two then end/start a hair apart.  Such a small gap
-    # (below r/20) is bridged by a straight move: its points dip below the
-    # offset distance by at most gap^2 / (8 r), i.e. r / 3200.
-    bridged = []
-    for a in out:
-        if bridged and not _close(bridged[-1].end, a.start) and \
-                math.dist(bridged[-1].end, a.start) < r / 20:
-            bridged.append(Line(bridged[-1].end, a.start, a.src, corner=True))
-        bridged.append(a)
-    out = bridged
-    present = {e.src for e in out if not e.corner}
-    inner = contour[1 if pin_start is not None else 0:len(contour) - (1 if pin_end is not None else 0)]
-    skipped = sorted({m.lineno for m in inner} - present)
-    return out, skipped
+def _programmed_element(m: Move):
+    if m.kind == "arc":
+        return Arc.from_points(m.center, m.start[:2], m.end[:2], m.cw, src=m.lineno)
+    return Line(m.start[:2], m.end[:2], m.lineno)
 
 
 def _line_ranges(lines: list[int], most: int = 8) -> str:
     """'line 5' / 'lines 5, 6, 7' / 'lines 5-9, 12, ... (40 lines)'."""
+    lines = sorted(set(lines))
     if len(lines) == 1:
         return f"line {lines[0]}"
     runs = []
@@ -178,73 +151,606 @@ def _line_ranges(lines: list[int], most: int = 8) -> str:
     return "lines " + ", ".join(parts) + more
 
 
+class _Stretch:
+    """One compensated stretch: builds, cuts, keeps and follows its pieces."""
+
+    def __init__(self, entry: Move, contour: list[Move], side: str, r: float, exit_move=None):
+        self.entry, self.contour, self.side, self.r = entry, contour, side, r
+        self.exit_move = exit_move
+        self.exit_outside = True
+        self.has_exit = False
+        self.slack = 0.0
+        self.cut_keys: set = set()
+        self.left = side == "left"
+        self.pieces: list[Piece] = []
+        self.cycle0 = 0
+        self.closed = False
+        self.entry_outside = True
+        self.feed = entry.feed or next((m.feed for m in contour if m.feed), 0.0) or 1.0
+
+    # -- 1. raw offset path ----------------------------------------------------------
+    def _corner(self, prev: Piece, el, corner, src: int, feed: float, trim: bool,
+                gap: float = 0.0):
+        """Join prev's end to el's start about the programmed corner point;
+        returns (pieces to insert, el possibly trimmed at its start, outside?)."""
+        a, b = prev.el.end, el.start
+        if _close(a, b, 1e-9):
+            return [], el, True
+        ta, tb = prev.el.tangent(1.0), el.tangent(0.0)
+        cross = ta[0] * tb[1] - ta[1] * tb[0]
+        dot = ta[0] * tb[0] + ta[1] * tb[1]
+        outside = (cross < 0) if self.left else (cross > 0)
+        if abs(cross) < 1e-12 and dot < 0:
+            outside = True
+        z = prev.z1
+        if outside:
+            # radius exactly r about the programmed corner (an arc block's
+            # offset may end a rounding error away from it)
+            a0 = math.atan2(a[1] - corner[1], a[0] - corner[0])
+            a1 = math.atan2(b[1] - corner[1], b[0] - corner[0])
+            sweep = -((a0 - a1) % TAU) if self.left else (a1 - a0) % TAU
+            arc = Arc(corner, self.r + gap, a0, sweep, src, True)
+            return [Piece(arc, src, CORNER, "arc", feed, z, z)], el, True
+        if trim and type(prev.el) is Line and type(el) is Line:
+            (x1, y1), (x2, y2) = prev.el.p0, prev.el.p1
+            (x3, y3), (x4, y4) = el.p0, el.p1
+            den = (x1 - x2) * (y3 - y4) - (y1 - y2) * (x3 - x4)
+            if den != 0.0:
+                t = ((x1 - x3) * (y3 - y4) - (y1 - y3) * (x3 - x4)) / den
+                u = -((x1 - x2) * (y1 - y3) - (y1 - y2) * (x1 - x3)) / den
+                if 1e-12 < t <= 1.0 and 0.0 <= u < 1 - 1e-12:
+                    p = (x1 + t * (x2 - x1), y1 + t * (y2 - y1))
+                    prev.el = Line(prev.el.p0, p, prev.el.src)
+                    prev.z1 = prev.z0 + t * (prev.z1 - prev.z0)
+                    return [], Line(p, el.p1, el.src), False
+            trim = False
+        if trim:
+            best = None
+            la, lb = prev.el.length(), el.length()
+            for ta_, tb_, p in intersect(prev.el, el):
+                key = (1 - ta_) * la + tb_ * lb
+                if best is None or key < best[0]:
+                    best = (key, ta_, tb_, p)
+            if best is not None and best[1] > 1e-12 and best[2] < 1 - 1e-12:
+                _, ta_, tb_, p = best
+                prev.el = prev.el.with_end(p)
+                prev.z1 = prev.z0 + ta_ * (prev.z1 - prev.z0)
+                return [], el.with_start(p), False
+        return [Piece(Line(a, b, src, True), src, CONNECTOR, "line", feed, z, z)], el, False
+
+    def build(self):
+        e, r = self.entry, self.r
+        c = e.start[:2]
+        p0 = e.end[:2]
+        if e.kind == "arc":
+            # an arc as entry move: straight onto its offset start, then the
+            # arc's offset like any contour block
+            el = _offset(e, self.side, r)
+            if el is None:
+                raise GcodeError(e.lineno, "the tool cannot follow the entry arc "
+                                           "(concave, smaller than the tool)")
+            self.pieces.append(Piece(Line(c, el.start, e.lineno), e.lineno, ENTRY, "line",
+                                     e.feed, e.start[2], e.start[2]))
+            self.contour = [e] + self.contour
+        else:
+            d = math.dist(c, p0)
+            if d < r - TOL:
+                raise GcodeError(e.lineno, f"lead-in move ({d:g} mm) is shorter than "
+                                           f"the tool radius ({r:g} mm)")
+            ux, uy = (p0[0] - c[0]) / d, (p0[1] - c[1]) / d
+            nx, ny = (-uy, ux) if self.left else (uy, -ux)
+            end = (p0[0] + r * nx, p0[1] + r * ny)
+            self.pieces.append(Piece(Line(c, end, e.lineno), e.lineno, ENTRY, e.kind,
+                                     e.feed, e.start[2], e.end[2]))
+        xy = [m for m in self.contour
+              if m.kind == "arc" or not _close(m.start[:2], m.end[:2], 1e-12)]
+        start_xy = e.start[:2] if e.kind == "arc" else p0
+        self.closed = len(xy) > 1 and _close(xy[-1].end[:2], start_xy, 1e-6)
+        self.prog_of = {m.lineno: _programmed_element(m) for m in self.contour
+                        if m.kind == "arc" or not _close(m.start[:2], m.end[:2], 1e-12)}
+        first_piece = None
+        prog_end = self.entry.end[:2]
+        pending_gap = False         # a block without offset since the last piece
+        for idx, m in enumerate(self.contour):
+            if m.kind != "arc" and _close(m.start[:2], m.end[:2], 1e-12):
+                last = self.pieces[-1]
+                if last.events is None:
+                    last.events = []
+                last.events.append(m)
+                continue
+            el = _offset(m, self.side, r)
+            if el is None:
+                pending_gap = True
+                prog_end = self.prog_of[m.lineno].end
+                continue
+            prev = self.pieces[-1]
+            is_first = first_piece is None
+            if pending_gap:
+                extra = [Piece(Line(prev.el.end, el.start, m.lineno, True), m.lineno,
+                               CONNECTOR, "line", m.feed or self.feed, prev.z1, prev.z1)]
+                outside = False
+            else:
+                extra, el, outside = self._corner(prev, el, m.start[:2], m.lineno,
+                                                  m.feed or self.feed,
+                                                  trim=not is_first and prev.role != ENTRY,
+                                                  gap=math.dist(prog_end, m.start[:2]))
+            if is_first:
+                self.entry_outside = outside and not pending_gap
+            pending_gap = False
+            prog_end = self.prog_of[m.lineno].end
+            self.pieces += extra
+            z0, z1 = m.start[2], m.end[2]
+            piece = Piece(el, m.lineno, CONTOUR, m.kind, m.feed or self.feed, z0, z1)
+            if is_first:
+                first_piece = piece
+                self.cycle0 = len(self.pieces)
+            self.pieces.append(piece)
+        if first_piece is None:
+            raise GcodeError(self.contour[0].lineno, "the tool cannot follow this contour at all")
+        if self.closed:
+            last = self.pieces[-1]
+            m_first = next(m for m in self.contour if m.lineno == first_piece.src)
+            start0 = _offset(m_first, self.side, r).start
+            if pending_gap:
+                extra = [Piece(Line(last.el.end, start0, first_piece.src, True), first_piece.src,
+                               CONNECTOR, "line", self.feed, last.z1, last.z1)]
+            else:
+                tmp = _offset(m_first, self.side, r)
+                extra, _, _ = self._corner(last, tmp, m_first.start[:2], first_piece.src,
+                                           first_piece.feed, trim=False,
+                                           gap=math.dist(prog_end, m_first.start[:2]))
+            for p in extra:
+                p.z0 = p.z1 = last.z1
+            self.pieces += extra
+            if len(self.pieces) == self.cycle0 + 1 and not extra:
+                self.closed = False
+        x = self.exit_move
+        if not self.closed and x is not None and x.kind != "arc" and \
+                math.dist(x.start[:2], x.end[:2]) > TOL:
+            # the G40 move starts from its own start point offset to the
+            # tool's side and joins the contour like any block (seed 004)
+            q0, q1 = x.start[:2], x.end[:2]
+            d = math.dist(q0, q1)
+            ux, uy = (q1[0] - q0[0]) / d, (q1[1] - q0[1]) / d
+            nx, ny = (-uy, ux) if self.left else (uy, -ux)
+            el = Line((q0[0] + r * nx, q0[1] + r * ny), q1, x.lineno)
+            prev = self.pieces[-1]
+            extra, el, self.exit_outside = self._corner(prev, el, q0, x.lineno,
+                                                        x.feed or self.feed, trim=False)
+            self.pieces += extra
+            self.pieces.append(Piece(el, x.lineno, EXIT, x.kind, x.feed, prev.z1, x.end[2]))
+            self.has_exit = True
+
+    # -- 2. cut at every crossing ------------------------------------------------------
+    def cut(self):
+        pieces = self.pieces
+        n = len(pieces)
+        for k, p in enumerate(pieces):
+            p.raw = k
+        arr = self.arr = pack([p.el for p in pieces])
+        if n < 3:
+            return
+        bx = boxes(arr)
+        ii, jj = box_pairs(bx, bx, 1e-9)
+        keep = ii < jj
+        ii, jj = ii[keep], jj[keep]
+        keep = jj != ii + 1
+        if self.closed:
+            keep &= ~((ii == self.cycle0) & (jj == n - 1))
+        ii, jj = ii[keep], jj[keep]
+        # only pairs that touch somewhere can cross (vectorised pre-test)
+        if len(ii):
+            touch = element_distance(arr[ii], arr[jj]) <= 1e-9
+            ii, jj = ii[touch], jj[touch]
+        cuts: dict[int, list] = {}
+        for i, j in zip(ii.tolist(), jj.tolist()):
+            for ta, tb, pt in intersect(pieces[i].el, pieces[j].el):
+                if MIN_PIECE < ta * pieces[i].el.length() and \
+                        (1 - ta) * pieces[i].el.length() > MIN_PIECE:
+                    cuts.setdefault(i, []).append((ta, pt))
+                if MIN_PIECE < tb * pieces[j].el.length() and \
+                        (1 - tb) * pieces[j].el.length() > MIN_PIECE:
+                    cuts.setdefault(j, []).append((tb, pt))
+        self.cut_keys = set()
+        for cs in cuts.values():
+            for _, pt in cs:
+                kx, ky = round(pt[0] * 1e6), round(pt[1] * 1e6)
+                for dx in (-1, 0, 1):
+                    for dy in (-1, 0, 1):
+                        self.cut_keys.add((kx + dx, ky + dy))
+        if not cuts:
+            return
+        out = []
+        cycle0 = self.cycle0
+        for k, p in enumerate(pieces):
+            if k == self.cycle0:
+                cycle0 = len(out)
+            cs = cuts.get(k)
+            if not cs:
+                out.append(p)
+                continue
+            cs.sort(key=lambda c: c[0])
+            ts = [0.0] + [c[0] for c in cs] + [1.0]
+            ps = [p.el.start] + [c[1] for c in cs] + [p.el.end]
+            events = p.events
+            for a in range(len(ts) - 1):
+                if ts[a + 1] - ts[a] <= 0 and math.dist(ps[a], ps[a + 1]) <= MIN_PIECE:
+                    continue
+                zz0 = p.z0 + ts[a] * (p.z1 - p.z0)
+                zz1 = p.z0 + ts[a + 1] * (p.z1 - p.z0)
+                out.append(Piece(_sub(p.el, ts[a], ts[a + 1], ps[a], ps[a + 1]), p.src, p.role,
+                                 p.kind, p.feed, zz0, zz1, k, ts[a], ts[a + 1]))
+            out[-1].events = events
+        self.pieces = out
+        self.cycle0 = cycle0
+        self.arr = pack([p.el for p in out])
+
+    # -- 3. distance test ------------------------------------------------------------------
+    def classify(self, programmed, prog_arr):
+        pieces = self.pieces
+        if not self.cut_keys and not self.has_exit and \
+                not any(p.role == CONNECTOR for p in pieces):
+            # nothing crosses and nothing was bridged: the raw path of a
+            # closed or open contour is its own offset (the gouge check on
+            # the result stands behind this shortcut)
+            for p in pieces:
+                p.valid = p.el.length() > MIN_PIECE or p.role in (ENTRY, EXIT)
+            return
+        r = self.r
+        a = self.arr
+        arc = a[:, K] == 1
+        length = np.where(arc, np.abs(a[:, SW]) * a[:, R], np.hypot(a[:, X1] - a[:, X0],
+                                                                     a[:, Y1] - a[:, Y0]))
+        pb = boxes(prog_arr)
+        ccx, ccy = (pb[:, 0] + pb[:, 2]) / 2, (pb[:, 1] + pb[:, 3]) / 2
+        hh = np.hypot(pb[:, 2] - pb[:, 0], pb[:, 3] - pb[:, 1]) / 2
+        limit = r - KEEP_TOL - self.slack
+
+        def too_close(idx):
+            """Is the midpoint of each piece idx[k] closer than r to the contour?"""
+            idx = np.asarray(idx, dtype=np.int64)
+            half = a[idx, A0] + a[idx, SW] / 2
+            qx = np.where(arc[idx], a[idx, CX] + a[idx, R] * np.cos(half),
+                          (a[idx, X0] + a[idx, X1]) / 2)
+            qy = np.where(arc[idx], a[idx, CY] + a[idx, R] * np.sin(half),
+                          (a[idx, Y0] + a[idx, Y1]) / 2)
+            i, j = box_pairs(np.stack([qx, qy, qx, qy], axis=1), pb, r)
+            near = np.hypot(qx[i] - ccx[j], qy[i] - ccy[j]) - hh[j] < r
+            i, j = i[near], j[near]
+            d = point_distance(qx[i], qy[i], prog_arr[j])
+            out = np.zeros(len(idx), bool)
+            out[i[d < limit]] = True
+            return out
+
+        # runs of pieces between crossings, connectors and role changes keep
+        # one side of every other block's offset: test the first, longest and
+        # last piece of each run, and every piece of a run where they differ
+        cut_keys = self.cut_keys
+        runs, cur = [], []
+        prev_role = None
+        for k, p in enumerate(pieces):
+            role = p.role if p.role in (ENTRY, EXIT, CONNECTOR) else CONTOUR
+            st = p.el.start
+            if cur and (role != prev_role or role == CONNECTOR or
+                        (cut_keys and (round(st[0] * 1e6), round(st[1] * 1e6)) in cut_keys)):
+                runs.append(cur)
+                cur = []
+            cur.append(k)
+            prev_role = role
+        if cur:
+            runs.append(cur)
+        probe, owner = [], []
+        for n_run, run in enumerate(runs):
+            best = max(run, key=lambda q: length[q])
+            for q in dict.fromkeys((run[0], best, run[-1])):
+                probe.append(q)
+                owner.append(n_run)
+        res = too_close(probe)
+        verdict: dict[int, set] = {}
+        for q, o, v in zip(probe, owner, res.tolist()):
+            verdict.setdefault(o, set()).add(v)
+        close = np.zeros(len(pieces), bool)
+        mixed = []
+        for n_run, run in enumerate(runs):
+            v = verdict[n_run]
+            if len(v) > 1:
+                mixed += run
+            elif True in v:
+                close[run] = True
+        if mixed:
+            close[mixed] = too_close(mixed)
+        close |= length <= MIN_PIECE
+        close = close.tolist()
+        for k, p in enumerate(pieces):
+            if p.role == CONNECTOR:
+                p.valid = False
+            else:
+                p.valid = not close[k]
+        # the entry: exempt, except what lies behind its last crossing at an inside corner
+        entry = [k for k, p in enumerate(pieces) if p.role == ENTRY]
+        if self.entry_outside and entry:
+            pieces[entry[-1]].valid = True
+        trailing = True
+        for k in reversed(entry):
+            if trailing and not pieces[k].valid:
+                continue
+            trailing = False
+            pieces[k].valid = True
+        if entry and not pieces[entry[0]].valid:
+            pieces[entry[0]].valid = True       # the entry move always starts
+        # the exit: exempt, except what lies before its first crossing with
+        # the contour's offset when it leaves at an inside corner
+        exits = [k for k, p in enumerate(pieces) if p.role == EXIT]
+        if self.exit_outside and exits:
+            pieces[exits[0]].valid = True
+        leading = True
+        for k in exits:
+            if leading and not pieces[k].valid:
+                continue
+            leading = False
+            pieces[k].valid = True
+        if exits:
+            pieces[exits[-1]].valid = True
+
+    # -- 4. follow --------------------------------------------------------------------------
+    def follow(self):
+        pieces = self.pieces
+        n = len(pieces)
+        closed = self.closed
+        c0 = self.cycle0
+        ncyc = n - c0
+
+        def key(p):
+            return (round(p[0] * 1e6), round(p[1] * 1e6))
+
+        cut_keys = self.cut_keys
+        starts: dict = {}
+        if cut_keys:
+            for k, p in enumerate(pieces):
+                if p.valid and p.role != ENTRY:
+                    kk = key(p.el.start)
+                    if kk in cut_keys:
+                        starts.setdefault(kk, []).append(k)
+
+        def at(point):
+            kx, ky = key(point)
+            out = []
+            for dx in (-1, 0, 1):
+                for dy in (-1, 0, 1):
+                    for q in starts.get((kx + dx, ky + dy), ()):
+                        if math.dist(pieces[q].el.start, point) <= 2e-6:
+                            out.append(q)
+            return out
+
+        def ahead(k, q):
+            if closed:
+                if k < c0:
+                    return q - c0 if q >= c0 else -1
+                return (q - k) % ncyc if q >= c0 else -1
+            return q - k
+
+        if not cut_keys:
+            # nothing crosses: the path is the raw path up to the first removed piece
+            chain = [0]
+            k = 0
+            while True:
+                nxt = k + 1 if k + 1 < n else (c0 if closed else None)
+                if nxt is None or (closed and nxt == c0 and k >= c0) or not pieces[nxt].valid \
+                        or (pieces[nxt].role == ENTRY and pieces[k].role != ENTRY):
+                    break
+                chain.append(nxt)
+                k = nxt
+            self._finish(chain, set(chain))
+            return
+        used = [False] * n
+        chain = [0]
+        used[0] = True
+        passed = {0}
+        attach = None
+        k = 0
+        while True:
+            end = pieces[k].el.end
+            nxt = k + 1 if k + 1 < n else (c0 if closed else None)
+            cands = []
+            if nxt is not None and not used[nxt] and pieces[nxt].valid and \
+                    (pieces[nxt].role != ENTRY or pieces[k].role == ENTRY):
+                cands.append((ahead(k, nxt), nxt))
+            for q in (at(end) if cut_keys and key(end) in cut_keys else ()):
+                if not used[q] and q != nxt and ahead(k, q) > 0:
+                    cands.append((ahead(k, q), q))
+            if not cands:
+                break
+            _, q = max(cands)
+            if closed and attach is not None and q == attach:
+                break
+            # everything between k and q is passed by
+            step = k
+            while step != q:
+                step = step + 1 if step + 1 < n else c0
+                passed.add(step)
+            if attach is None and q >= c0:
+                attach = q
+            used[q] = True
+            chain.append(q)
+            k = q
+            if closed and attach is not None and attach != q and \
+                    _close(pieces[k].el.end, pieces[attach].el.start, 2e-6):
+                # passed the pieces between here and the attach point too
+                step = k
+                while True:
+                    step = step + 1 if step + 1 < n else c0
+                    if step == attach:
+                        break
+                    passed.add(step)
+                break
+        self._finish(chain, passed)
+
+    def _finish(self, chain, passed):
+        pieces = self.pieces
+        k = chain[-1]
+        self.chain = chain
+        self.passed = passed
+        if self.has_exit and pieces[k].role != EXIT:
+            raise GcodeError(self.exit_move.lineno, f"the tool (radius {self.r:g} mm) cannot "
+                                                    "reach the G40 move without gouging")
+        unreached = [p for k, p in enumerate(pieces) if p.valid and k not in passed
+                     and p.role not in (ENTRY, EXIT)]
+        lost = {}
+        for p in unreached:
+            lost[p.src] = lost.get(p.src, 0.0) + p.el.length()
+        lost = sorted(s for s, v in lost.items() if v > REACH_TOL)
+        if lost:
+            raise GcodeError(lost[0], f"the tool (radius {self.r:g} mm) cannot reach "
+                                      f"{_line_ranges(lost)} without gouging: the way there is "
+                                      "narrower than the tool")
+
+    def emit(self):
+        """Moves of the chain; consecutive parts of one raw element are merged."""
+        pieces = self.pieces
+        groups: list[list[Piece]] = []
+        for k in self.chain:
+            p = pieces[k]
+            g = groups[-1] if groups else None
+            if g and g[-1].raw == p.raw and abs(g[-1].t1 - p.t0) < 1e-12 and \
+                    _close(g[-1].el.end, p.el.start, 1e-9):
+                g.append(p)
+            else:
+                groups.append([p])
+        out: list[Move] = []
+        self.path, self.path_roles = [], []
+        emitted = set()
+        if len(groups) == len(self.chain):
+            self.path_arr = self.arr[self.chain]
+        else:
+            self.path_arr = None
+        for g in groups:
+            first, last = g[0], g[-1]
+            if first is last:
+                el = first.el
+            elif type(first.el) is Line:
+                el = Line(first.el.start, last.el.end, first.src, first.el.corner)
+            else:
+                el = Arc(first.el.c, first.el.r, first.el.a0, sum(p.el.sweep for p in g),
+                         first.src, first.el.corner)
+            self.path.append(el)
+            self.path_roles.append(first.role)
+            s, t = first.el.start, last.el.end
+            if type(el) is Line:
+                kind = first.kind if first.kind in ("line", "rapid") else "line"
+                out.append(Move(kind, (s[0], s[1], first.z0), (t[0], t[1], last.z1), first.src,
+                                0.0 if kind == "rapid" else first.feed))
+            else:
+                out.append(Move("arc", (s[0], s[1], first.z0), (t[0], t[1], last.z1), first.src,
+                                first.feed, center=el.c, cw=el.cw, plane=17))
+            for p in g:
+                for ev in p.events or ():
+                    emitted.add(id(ev))
+                    out.append(Move(ev.kind, (t[0], t[1], ev.start[2]), (t[0], t[1], ev.end[2]),
+                                    ev.lineno, ev.feed))
+        # Z-only moves on pieces the path passed by keep their order at its end
+        self.stray = [ev for p in pieces if p.events for ev in p.events if id(ev) not in emitted]
+        return out
+
+
 def compensate(moves: list[Move], window: int = 5, strict: bool = False) -> CompResult:
     """Apply cutter compensation to parsed moves; see the module docstring."""
     result: list[Move] = []
     warnings: list[str] = []
     skipped_all: list[int] = []
     k = 0
-    while k < len(moves):
+    n_moves = len(moves)
+    while k < n_moves:
         m = moves[k]
         if m.comp == "off":
             result.append(m)
             k += 1
             continue
-        entry = m
         side, r = m.comp, m.radius
-        if entry.kind == "arc":
-            raise GcodeError(entry.lineno, "the move that starts cutter compensation must be straight")
-        lead = math.hypot(entry.end[0] - entry.start[0], entry.end[1] - entry.start[1])
-        if lead < r - TOL:
-            raise GcodeError(entry.lineno, f"lead-in move ({lead:g} mm) is shorter than the tool radius ({r:g} mm)")
+        # moves without XY motion before the entry move run as they are
+        while k < n_moves and moves[k].comp != "off" and moves[k].kind != "arc" and \
+                _close(moves[k].start[:2], moves[k].end[:2], 1e-12):
+            result.append(moves[k])
+            k += 1
+        if k >= n_moves or moves[k].comp == "off":
+            continue
+        entry = moves[k]
+        if r <= 0:
+            # D0 / a zero diameter: the path is the programmed one
+            while k < n_moves and moves[k].comp != "off":
+                result.append(moves[k])
+                k += 1
+            continue
         k += 1
         contour = []
-        while k < len(moves) and moves[k].comp != "off":
+        while k < n_moves and moves[k].comp != "off":
             c = moves[k]
             if c.kind == "arc" and c.plane != 17:
                 raise GcodeError(c.lineno, "compensated arcs must be in G17")
-            if abs(c.start[2] - entry.end[2]) > TOL or abs(c.end[2] - entry.end[2]) > TOL:
-                raise GcodeError(c.lineno, "Z must stay constant while cutter compensation is on")
-            if c.kind != "arc" and _close(c.start[:2], c.end[:2]):
-                raise GcodeError(c.lineno, "a move without XY motion while cutter compensation is on")
             contour.append(c)
             k += 1
-        if k >= len(moves):
-            raise GcodeError(moves[-1].lineno, "the program ends with cutter compensation on (no G40 move)")
-        exit_move = moves[k]
-        if exit_move.kind == "arc":
-            raise GcodeError(exit_move.lineno, "the G40 move must be straight")
-        if not contour:
-            raise GcodeError(exit_move.lineno, "cutter compensation on for the lead-in move only")
-        elems, skipped = offset_contour([entry] + contour + [exit_move], side, r, window,
-                                        pin_start=entry.start[:2], pin_end=exit_move.end[:2])
-        if len(elems) < 2 or elems[0].src != entry.lineno or elems[-1].src != exit_move.lineno:
-            raise GcodeError(contour[0].lineno, "the tool cannot follow this contour at all")
-        for a, b in zip(elems, elems[1:]):
-            if not _close(a.end, b.start, 1e-5):
-                raise GcodeError(b.src, f"cannot resolve the inside corner within a window of {window} blocks")
+        if not any(c.kind == "arc" or not _close(c.start[:2], c.end[:2], 1e-12) for c in contour) \
+                and entry.kind != "arc":
+            if k < n_moves:
+                raise GcodeError(moves[k].lineno, "cutter compensation on for the lead-in move only")
+            raise GcodeError(entry.lineno, "cutter compensation on for the lead-in move only")
+        st = _Stretch(entry, contour, side, r, moves[k] if k < n_moves else None)
+        st.build()
+        st.cut()
+        programmed = list(st.prog_of.values())
+        prog_arr = pack(programmed)
+        # an arc runs about its centre with its start radius; its end may be
+        # a rounding error (at most LinuxCNC's arc tolerance) away from where
+        # the next block starts: the checks allow that much on top of TOL
+        slack = float(np.hypot(prog_arr[:-1, X1] - prog_arr[1:, X0],
+                               prog_arr[:-1, Y1] - prog_arr[1:, Y0]).max()) \
+            if len(programmed) > 1 else 0.0
+        st.slack = slack
+        st.classify(programmed, prog_arr)
+        st.follow()
+        out = st.emit()
+        # the independent check of the result (entry excluded)
+        keep = [k for k, role in enumerate(st.path_roles) if role not in (ENTRY, EXIT)]
+        body = [st.path[k] for k in keep]
+        body_arr = st.path_arr[keep] if st.path_arr is not None else pack(body)
+        bad = check.gouges(body, programmed, r, TOL + slack, arrays=(body_arr, prog_arr))
+        if bad:
+            worst = min(bad, key=lambda b: b[2])
+            lines = sorted({programmed[b[1]].src for b in bad} | {body[b[0]].src for b in bad})
+            raise GcodeError(lines[0], f"the compensated path comes {r - worst[2]:.3g} mm too "
+                                       f"close to the contour near {_line_ranges(lines)} "
+                                       f"(tool radius {r:g} mm)")
+        crossings = check.self_crossings(body, arr=body_arr)
+        if crossings:
+            lines = sorted({body[i].src for i, j in crossings} | {body[j].src for i, j in crossings})
+            raise GcodeError(lines[0], f"the compensated path crosses itself near "
+                                       f"{_line_ranges(lines)}")
+        present = {p.src for kk in st.chain for p in [st.pieces[kk]] if p.role == CONTOUR}
+        skipped = sorted({c.lineno for c in st.contour if c.kind == "arc" or
+                          not _close(c.start[:2], c.end[:2], 1e-12)} - present - {entry.lineno})
         if skipped:
             if strict:
-                raise GcodeError(skipped[0], f"the tool (radius {r:g} mm) cannot follow the contour here")
-            which = _line_ranges(skipped)
-            warnings.append(f"{which}: skipped, the tool (radius {r:g} mm) cannot follow the contour there")
+                raise GcodeError(skipped[0], f"the tool (radius {r:g} mm) cannot follow "
+                                             "the contour here")
+            warnings.append(f"{_line_ranges(skipped)}: skipped, the tool (radius {r:g} mm) "
+                            "cannot follow the contour there")
             skipped_all += skipped
-        z = entry.end[2]
-        first = elems[0].end
-        result.append(Move(entry.kind, entry.start, (first[0], first[1], z), entry.lineno, entry.feed))
-        feeds = {c.lineno: c.feed for c in contour}
-        for e in elems[1:-1]:
-            s, t = e.start, e.end
-            f = feeds.get(e.src, entry.feed or exit_move.feed)
-            if isinstance(e, Line):
-                result.append(Move("line", (s[0], s[1], z), (t[0], t[1], z), e.src, f))
+        result += out
+        last = out[-1].end
+        for ev in st.stray:
+            result.append(Move(ev.kind, last, (last[0], last[1], ev.end[2]), ev.lineno, ev.feed))
+            last = result[-1].end
+        # the exit move: from the last point of the path to its programmed end
+        if st.has_exit:
+            k += 1
+        elif k < n_moves:
+            x = moves[k]
+            if x.kind == "arc":
+                if not _close(last[:2], x.start[:2], 1e-12):
+                    result.append(Move("line", last, x.start, x.lineno, x.feed or st.feed))
+                result.append(x)
             else:
-                result.append(Move("arc", (s[0], s[1], z), (t[0], t[1], z), e.src, f,
-                                   center=e.c, cw=e.cw, plane=17))
-        last = elems[-1].start
-        result.append(Move(exit_move.kind, (last[0], last[1], z), exit_move.end, exit_move.lineno,
-                           exit_move.feed))
-        k += 1
+                result.append(Move(x.kind, last, x.end, x.lineno, x.feed))
+            k += 1
     return CompResult(result, warnings, skipped_all)
 
 
