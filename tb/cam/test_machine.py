@@ -6,6 +6,7 @@ for every kind of bad file."""
 from __future__ import annotations
 
 import copy
+import dataclasses
 from pathlib import Path
 
 import pytest
@@ -258,3 +259,11 @@ def test_x_and_y_blu_must_match_only_when_the_program_has_arcs():
                                            r"axis\.x\.blu_mm 0\.001.*first on line 4"):
         check_program(m, arcs)
     check_program(from_dict(base()), arcs)                    # same BLU: fine
+
+
+def test_the_shipped_default_is_the_example_machine():
+    """load_default reads the file inside the package; it is examples/machine.toml."""
+    from halfpoint.cam.machine import load, load_default
+
+    ex = Path(__file__).resolve().parents[2] / "examples" / "machine.toml"
+    assert load_default() == dataclasses.replace(load(ex), source=load_default().source)

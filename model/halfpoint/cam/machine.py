@@ -53,6 +53,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from fractions import Fraction
+from importlib.resources import files
 from pathlib import Path
 
 try:
@@ -249,6 +250,14 @@ def load(path) -> Machine:
     except OSError as e:
         raise MachineError("machine file", f"cannot read: {e.strerror or e}", str(p)) from None
     return loads(text, str(p))
+
+
+def load_default() -> Machine:
+    """The example machine shipped inside the package (``halfpoint/data/machine.toml``,
+    the same file as ``examples/machine.toml``): what ``halfpoint run`` uses when no
+    machine file is given."""
+    text = files("halfpoint").joinpath("data", "machine.toml").read_text(encoding="utf-8")
+    return loads(text, "halfpoint/data/machine.toml (the example machine)")
 
 
 def check_program(machine: Machine, moves) -> None:
