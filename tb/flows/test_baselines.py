@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: Apache-2.0
-"""The bench's baseline interpolators (model/halfpoint/baselines.py) behave as
+"""The bench's baseline interpolators (model/halfpoint/flows/baselines.py) behave as
 the classic methods do, so the comparison with the half-point method is fair."""
 
 import math

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // Compiled Verilator harness for halfpoint_core (NA=3, W=32, TW=16): the
 // simulation-speed figure of `make bench`.  Reads a vector file written by
-// model/halfpoint/simspeed.py -- the commands and the model's expected moves
+// model/halfpoint/flows/simspeed.py -- the commands and the model's expected moves
 // (clock, positions) -- streams the commands with tvalid high whenever one is
 // left (as the model's run_program does), and checks every move's clock and
 // positions against the model.  Prints "clocks <n> seconds <s> moves <m>" and

@@ -382,7 +382,7 @@ def main() -> int:
         "max_step_rate_hz_per_axis": f"steplen 1, stepspace 1 at {CLOCK_HZ / 1e6:.0f} MHz",
         "max_line_error_blu": "2000 random 3-axis lines up to 1000 BLU per axis: largest distance "
                               "of a visited lattice point from the ideal segment",
-        "baseline_pbp_max_error_blu": "point-by-point comparison (model/halfpoint/baselines.py), "
+        "baseline_pbp_max_error_blu": "point-by-point comparison (model/halfpoint/flows/baselines.py), "
                                       f"full circles R = 1..64 and 10 radii up to 2048",
         "baseline_pbp_moves_per_circle_over_r": "mean over those radii >= 64 (axis moves only: 8)",
         "baseline_dda_max_error_blu": "DDA circle, remainders preset 0, quadrant by quadrant, same radii",
