@@ -322,7 +322,9 @@ def test_program_end_and_percent():
     assert [b.text for b in out.blocks] == ["G0 X1", "M2"] and out.ended
     out = expand("%\n#1=3\nG0 X#1\n%\nG0 X[1/0] (never read)\no9 if [1]\n", "p.ngc")
     assert [b.text for b in out.blocks] == ["%", "G0 X3", "%"] and out.ended
-    assert out.line_count == 6
+    assert out.line_count == 6 and out.opening == 1
+    assert expand("\n  \n%1234\nG0 X1\n%\n").opening == 3
+    assert expand("#1=2\n%\nM2").opening == 0
     assert not expand("G0 X1\n").ended
 
 

@@ -33,7 +33,8 @@ chapters of the LinuxCNC manual):
   ``return`` and ``endsub`` with an optional value (``#<_value>``,
   ``#<_value_returned>``, cleared by the next call), ``if``/``elseif``/
   ``else``/``endif``, ``while``/``endwhile``, ``do``/``while``, ``repeat``/
-  ``endrepeat``, ``break``/``continue`` (of a ``while`` or ``do`` loop).
+  ``endrepeat`` (the count an integer within 0.0001; zero or less runs
+  nothing), ``break``/``continue`` (of a ``while`` or ``do`` loop).
   ``o<name> call`` of a subroutine not in the program reads ``name.ngc`` from
   ``search_path`` (LinuxCNC's SUBROUTINE_PATH), which must define it.
 * Messages: the last comment of a line is active (LinuxCNC's rule): ``(MSG,``
@@ -55,7 +56,8 @@ silent change):
 
 * Machine state LinuxCNC's parameters report (position ``#5420``-``#5428``
   and ``#<_x>``..., modal state ``#<_metric>``..., tool ``#5400``..., probe
-  results, INI and HAL values) is not tracked: reading it is an error.
+  results, INI and HAL values) is not tracked: reading it is an error, and
+  ``EXISTS`` of an INI or HAL name gives 0.
   Writing a numbered parameter above ``#5000`` (offsets, homes) is an error.
 * ``MOD`` by zero is an error (LinuxCNC yields a NaN, then fails later).
 * The whole file is checked for O-word structure before it runs (an
@@ -164,6 +166,7 @@ class Expanded:
     messages: list[Message] = field(default_factory=list)
     ended: bool = False          # an M2/M30 or the closing % was executed
     line_count: int = 0          # lines in the main program's text
+    opening: int = 0             # line of the opening % (the first non-blank line), or 0
 
     def text(self) -> str:
         """The blocks' text, one a line (their line numbers are lost)."""
@@ -810,7 +813,7 @@ class _Interpreter:
                 break            # nothing after the closing % is read
         if main:
             self.out.line_count = len(raw_lines)
-            self.opening = first + 1 if percent else 0
+            self.opening = self.out.opening = first + 1 if percent else 0
         return _structure(lines, self.subs)
 
     def find_sub(self, name: str, line: _Line) -> _Sub:
