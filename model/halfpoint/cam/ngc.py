@@ -51,8 +51,7 @@ chapters of the LinuxCNC manual):
   (G28/G30 homes, G92, the coordinate systems) reads 0 -- halfpoint has one
   work offset, G54, and it is zero -- except ``#5220`` (G54 in use) = 1.
 
-Where this differs from LinuxCNC (each an error naming the line, never a
-silent change):
+Where this differs from LinuxCNC (the refusals are errors naming the line):
 
 * Machine state LinuxCNC's parameters report (position ``#5420``-``#5428``
   and ``#<_x>``..., modal state ``#<_metric>``..., tool ``#5400``..., probe
