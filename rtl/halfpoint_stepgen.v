@@ -179,14 +179,17 @@ module halfpoint_stepgen #(
     //              STEP stays active;
     //   polarity   STEP pin at step_inv while idle, DIR pin = last taken
     //              direction XOR dir_inv;
-    //   handshake  a request is taken iff the ready of its direction is high
-    //              (take = req && ready_dir); a request while not ready is not
-    //              taken: nothing moves; every taken request gives exactly one
-    //              STEP rise, in its direction, within dirsetup clocks (0 for
-    //              the same direction) of the take's edge: no step is dropped
-    //              or merged; readiness is exact (ready as soon as the rules
-    //              allow a step in that direction: no needless waiting, for the
-    //              same direction; a reversal also waits for stepspace).
+    //   handshake  take = req && the ready of req_dir.  A take happens only
+    //              while idle (nothing merged); each gives exactly one STEP
+    //              rise, in its direction: on the edge after the take, or for
+    //              a reversal at most dirsetup clocks after the DIR change
+    //              the take makes on that edge (nothing dropped or late);
+    //              a request while not ready is not taken: no rise, no DIR
+    //              change (every rise and DIR change belongs to a take);
+    //   readiness  exact: ready for the same direction iff idle and the
+    //              inactive time reaches stepspace, for a reversal iff also
+    //              dirhold (settings of the clock before): no needless wait.
+    // Labels: a_* the contract above, p_* its plain form, i_* invariants.
     // Settings are free inputs.  With F_STABLE_CFG (sby task "stable") they are
     // any constant values, and the four rules are asserted in the plain form
     // of halfpoint.sim.timing.  Without it (task "live") they change at will
@@ -196,7 +199,8 @@ module halfpoint_stepgen #(
     // dirsetup at the take.  rst is free after the first clock (assumed
     // high there); a reset restarts the monitor, as a new checker would.
     // The internal invariants at the end tie the RTL state to the monitor so
-    // that k-induction closes.
+    // that k-induction closes; F_CONTRACT_ONLY leaves them out (sby task
+    // "contract", a bounded check of the contract alone).
     localparam [TW-1:0] F_ZERO = {TW{1'b0}};
 
     reg f_past_valid;

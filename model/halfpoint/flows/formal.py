@@ -91,6 +91,11 @@ MUTANTS = [
            "wire          ready_flip = in_low && space_ok_q;",
            ("stable_tw4", "contract_tw4"),
            "reversal ready without waiting for dirhold"),
+    Mutant("stepgen_no_step_inv", "halfpoint_stepgen", "rtl/halfpoint_stepgen.v",
+           "step_pin <= (state_n == STATE_HIGH) ^ cfg_step_inv;",
+           "step_pin <= (state_n == STATE_HIGH);",
+           ("stable_tw4", "contract_tw4"),
+           "STEP pin ignores step_inv (after reset)"),
     Mutant("stepgen_no_dir_inv", "halfpoint_stepgen", "rtl/halfpoint_stepgen.v",
            "dir_pin  <= dir_n ^ cfg_dir_inv;", "dir_pin  <= dir_n;",
            ("stable_tw4", "contract_tw4"),
@@ -237,9 +242,9 @@ def run_task(sbyexe: Path, sby: Path, task: str, prefix: Path, name: str,
     prefix.parent.mkdir(parents=True, exist_ok=True)
     Path(f"{workdir}.log").write_text(proc.stdout + proc.stderr)
     parse_workdir(res, workdir)
-    if res.status == "ERROR" and not res.note:
-        res.note = (proc.stdout + proc.stderr).strip().splitlines()[-1:] or ["sby failed"]
-        res.note = res.note[0][-200:]
+    if res.status == "ERROR" and not (workdir / "logfile.txt").exists():
+        tail = (proc.stdout + proc.stderr).strip().splitlines()
+        res.note = (tail[-1] if tail else "sby failed")[-200:]
     return res
 
 
@@ -323,8 +328,7 @@ def main(argv=None) -> int:
     ap.add_argument("names", nargs="*", metavar="NAME",
                     help="design, task, design:task or mutant name")
     args = ap.parse_args(argv)
-    out = (REPO / args.out) if args.out is not None and not args.out.is_absolute() \
-        else (args.out or OUT)
+    out = OUT if args.out is None else (REPO / args.out).resolve()
     proofs, mutants = plan(args.quick, args.names)
     if args.list:
         for _, _, name in proofs:
