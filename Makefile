@@ -7,6 +7,7 @@
 #                and the example board tops (build/synth/boards.json, bitstreams)
 #   make boards  the example board tops alone
 #   make lint    verilator --lint-only -Wall on rtl/
+#   make formal  SymbiYosys proofs (all tasks) and mutants, table + build/formal/report.json
 #   make clean   remove build/ (keeps .venv/)
 
 PYTHON  ?= python3
@@ -15,7 +16,7 @@ VPY     := $(VENV)/bin/python
 STAMP   := $(VENV)/.setup-done
 JOBS    ?= 2
 
-.PHONY: setup test lint demo bench synth boards clean distclean
+.PHONY: setup test lint demo bench synth boards formal clean distclean
 
 SEEDS   ?= 3
 
@@ -43,6 +44,9 @@ bench: setup
 
 synth: setup
 	$(VPY) -m halfpoint.flows.synth --seeds $(SEEDS) --jobs $(JOBS)
+
+formal: setup
+	$(VPY) -m halfpoint.flows.formal --jobs $(JOBS)
 
 boards: setup
 	$(VPY) -m halfpoint.flows.synth --boards-only --jobs $(JOBS)
