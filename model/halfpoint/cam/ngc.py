@@ -832,6 +832,20 @@ class _Interpreter:
         raise line.fail(f"{name} call: no such subroutine in this program{where}")
 
     # running
+    def iteration(self, body: list, line) -> bool:
+        """One pass of a loop's body; False when a ``break`` of this loop ended it
+        (a ``continue`` of this loop just ends the pass)."""
+        try:
+            self.run(body)
+        except _Break as exc:
+            if exc.name != line.oname:
+                raise
+            return False
+        except _Continue as exc:
+            if exc.name != line.oname:
+                raise
+        return True
+
     def run(self, body: list):
         for statement in body:
             kind = statement[0]
@@ -849,29 +863,13 @@ class _Interpreter:
                 _, line, loop_body, _end = statement
                 while self.condition(line):
                     self.count(line)
-                    try:
-                        self.run(loop_body)
-                    except _Break as exc:
-                        if exc.name != line.oname:
-                            raise
+                    if not self.iteration(loop_body, line):
                         break
-                    except _Continue as exc:
-                        if exc.name != line.oname:
-                            raise
             elif kind == "do":
                 _, line, loop_body, while_line = statement
                 while True:
                     self.count(line)
-                    try:
-                        self.run(loop_body)
-                    except _Break as exc:
-                        if exc.name != line.oname:
-                            raise
-                        break
-                    except _Continue as exc:
-                        if exc.name != line.oname:
-                            raise
-                    if not self.condition(while_line):
+                    if not self.iteration(loop_body, line) or not self.condition(while_line):
                         break
             elif kind == "repeat":
                 _, line, loop_body, _end = statement
