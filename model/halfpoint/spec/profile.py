@@ -1,0 +1,654 @@
+# SPDX-License-Identifier: Apache-2.0
+"""Executable specification of the motion-profile stage (issue 13, items 2 and 5).
+
+No RTL yet; this model is what the RTL will be held to, clock by clock.  It is
+integer-only: per clock it uses adders, comparators, constant shifts and muxes;
+the one product, the feed override applied to the cruise speed, is a shift-add of
+an 8-bit override (see ``ProfileStage.view``).  The host-side functions below
+(``ramp_distance``, ``exit_distance``, ``speed_field`` ...) use exact integer and
+rational arithmetic and are not part of the hardware.
+
+Place in the pipeline: the arc / line interpolators run ahead into a short move
+queue; each queued move carries its cost class (axis move, diagonal arc move, line
+iteration) and whether it is its segment's last move.  This stage pops the head
+move when its credit covers the move's cost and every axis the move steps is ready
+(``ready``, from the STEP/DIR generators); the STEP/DIR generators follow.
+
+Per segment a profile (a PROFILE command ahead of each motion command,
+``ProfileParams``) gives the cruise and exit speeds, the speed step per tick, the
+line cost and two distances from the segment's start: ``d_exit`` (from there on,
+decelerate towards the exit speed) and ``d_stop`` (from there on, decelerate to the
+creep speed if the next segment is not available yet: the dry queue).
+
+Fixed point (path unit = one BLU of X, shared with Y; a diagonal arc move is
+sqrt(2) of it, a line iteration its Euclidean length / iteration count).  The
+bounds come from the issue's ranges (clocks 10-200 MHz, BLU 0.1-10 um, speeds
+0.1-500 mm/s, accelerations 10-50,000 mm/s^2, arcs ramp at half of it): path speed
+2^-24.3 .. 2^-1 BLU per clock, acceleration 2^-46.2 .. 2^-17.6 BLU per clock^2.
+
+===============  =====  ==================  =========================================
+quantity         bits   unit (LSB)          bound and error
+===============  =====  ==================  =========================================
+v_cruise, v_exit  32    2^-32 BLU/clock     < 1 BLU/clock (>= 2^-1 needed); floor,
+  (fields)                                  error < 2^-32 / 2^-24.3 = 0.5 %
+accel (field)     34    2^-38 BLU/clock     speed step per tick, < 2^-4 (2^-17.6 *
+                        per tick            2^DIV <= 2^-6.7 with choose_div); floor,
+                                            error <= 0.9 % at 2^-46.2 and 200 MHz
+line_cost         18    2^-16 BLU           one line iteration, < 4 (sqrt(6) for 6
+                                            axes of one BLU); 0 marks an arc
+d_exit, d_stop  W+19    2^-16 BLU           < 2^(W+3): a segment's cost length, W the
+                                            core's position width (51 bits at W = 32)
+speed register v  38    2^-38 BLU/clock     < 1 BLU/clock (the fields shifted by 6)
+credit            41    2^-38 BLU           < 2 * largest cost + 1 < 2^3
+distance s      W+19    2^-16 BLU           as d_exit (sum of the popped costs)
+tick counter     DIV    clocks              1 .. 2^DIV, saturating
+===============  =====  ==================  =========================================
+
+A profile command therefore needs 32 + 32 + 34 + 18 + 2 (W + 19) = 218 bits at
+W = 32: it fits the 224 bits of a 256-bit beat after the 32-bit opcode word.
+
+Per clock (``ProfileStage.clock``):
+
+* credit += v while a segment is current, capped at twice the segment's largest
+  cost (arcs: the diagonal cost, lines: the line cost), so credit cannot pile up
+  while nothing can move; a move pops when credit >= its cost, the head is valid,
+  ``ready`` and not ``stop`` at rest; credit -= cost, s += cost; on the segment's
+  last move the next profile becomes current (if available) and s restarts at 0,
+  the credit's remainder carried.
+* the target speed T (combinational, every clock): 0 under ``hold`` or ``stop``
+  or when no segment is current; else the cruise speed scaled by the override
+  (``v_cruise * ov / 128``, ov in 0..128), lowered to the exit speed (the creep
+  speed, one speed step ``accel``, if the exit speed is 0, so the segment
+  finishes) once E >= d_exit, and to the creep speed once E >= d_stop while the
+  next profile is not available and the exit speed is not 0 (sticky ``dry``).
+  E = s + credit (the distance earned, not only popped: exact to one clock).
+* the speed steps by ``accel`` towards T (never past it) when T differs; two
+  steps in the same direction are at least 2^DIV clocks apart (a tick), a step in
+  the other direction may come at once.  So in any window of 2^DIV clocks the
+  speed changes by at most ``accel``: the acceleration limit, measured over a tick.
+  This is LinuxCNC's velocity change once per servo period (``tp.c``,
+  ``tpCalculateTrapezoidalVel``: new velocity = current +- accel * cycle time per
+  period), but with the period restarted by a change of target, so the deceleration
+  starts on the clock its distance is reached, not up to a tick late.
+
+Why not a free-running tick (the lead's first design): a decision once per tick can
+start the deceleration up to one tick of cruise distance late; the ramp then runs
+out of segment with the speed still sqrt(2 v accel) above the exit speed, about
+14 steps for a ramp of 100 steps, or (if the host plans for it) it must start a tick
+early and creep the rest at the exit speed, which at the creep speed doubles the
+ramp's time.  Triggering per clock on the earned distance keeps both to one clock.
+
+Where peers do the same: the distances are Smoothieware's / Marlin's
+``accelerate_until`` / ``decelerate_after`` and grbl's ``decelerate_after`` of
+``st_prep_t`` (compared with the steps done), but in path cost units and compared
+with the earned distance; the staircase is LinuxCNC's per-servo-period velocity.
+
+Feed hold, stop, override (issue 13, item 5): hold decelerates at ``accel`` per tick
+along the path, across segment boundaries, to rest, and stays (``holding``: hold, v
+= 0, no move can pop); releasing it accelerates back to the target.  Stop does the
+same and, at rest, drops the current segment and credit and reports ``stopped``
+(the core flushes its queues while stop is high at rest).  The override acts on the
+target, so its changes ramp at ``accel`` like any other change of target.  Moves
+are only delayed, never reordered, merged or dropped (except by stop).
+
+Dry queue: from ``d_stop`` on, with no next profile available, the stage
+decelerates to the creep speed, so the segment ends at (at most) that speed and the
+stage then stops at once (a step of ``accel`` at most).  Where the segment is too
+short for that (``d_stop`` = 0 and the entry speed too high) the deceleration starts
+at the segment's start and the segment ends above the creep speed: the last move
+pops at that speed and the speed then falls in one clock, the one case where the
+acceleration limit is not kept; ``dry`` flags it (the host should not let the queue
+run dry).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from fractions import Fraction
+
+# --- fixed point ----------------------------------------------------------------------------
+
+COST_FRAC = 16                      # costs and distances: BLU x 2^16
+SPEED_FRAC = 38                     # speed register, speed step, credit: BLU x 2^38
+FIELD_SPEED_FRAC = 32               # v_cruise / v_exit fields: BLU per clock x 2^32
+SPEED_SHIFT = SPEED_FRAC - FIELD_SPEED_FRAC     # 6: field -> register
+COST_SHIFT = SPEED_FRAC - COST_FRAC             # 22: cost -> credit units
+FIELD_SPEED_BITS = 32               # v < 1 BLU per clock
+ACCEL_BITS = 34                     # speed step < 2^-4 BLU per clock
+LINE_COST_BITS = 18                 # line cost < 4 BLU
+DIST_EXTRA_BITS = 3                 # a segment is < 2^(W + 3) BLU long
+OVERRIDE_ONE = 128                  # the override in 1/128 (128 = 100 %)
+
+COST_AXIS = 1 << COST_FRAC                          # 65536
+COST_DIAG = round(math.sqrt(2) * (1 << COST_FRAC))  # 92682
+
+CLASS_AXIS, CLASS_DIAG, CLASS_LINE = 0, 1, 2
+
+TICK_MIN_S = 80e-6                  # choose_div: the shortest tick (82 us at 50 MHz)
+CLOCK_RANGE_HZ = (10_000_000, 200_000_000)
+MAX_ERROR = 0.01                    # the issue's 1 %
+
+
+def distance_bits(width: int) -> int:
+    """Width of s, d_exit, d_stop for a core of position width ``width``."""
+    return width + DIST_EXTRA_BITS + COST_FRAC
+
+
+class ProfileRangeError(ValueError):
+    """A quantity does not fit its field (or not within 1 %); the message names it."""
+
+    def __init__(self, quantity: str, reason: str):
+        super().__init__(f"{quantity}: {reason}")
+        self.quantity = quantity
+
+
+@dataclass(frozen=True)
+class ProfileParams:
+    """One segment's profile, the fields of a PROFILE command."""
+
+    v_cruise: int           # BLU per clock x 2^32, < 2^32
+    v_exit: int             # BLU per clock x 2^32, <= v_cruise
+    accel: int              # speed step per tick, BLU per clock x 2^38, 1 .. 2^34 - 1
+    line_cost: int = 0      # one line iteration, BLU x 2^16, < 2^18; 0 for an arc
+    d_exit: int = 0         # BLU x 2^16 from the segment's start
+    d_stop: int = 0         # BLU x 2^16, <= d_exit
+
+    def largest_cost(self) -> int:
+        return self.line_cost if self.line_cost else COST_DIAG
+
+    def check(self, width: int = 32) -> None:
+        """Raise ProfileRangeError naming the first field that does not fit."""
+        dist = 1 << distance_bits(width)
+        for name, value, top in (("v_cruise", self.v_cruise, 1 << FIELD_SPEED_BITS),
+                                 ("v_exit", self.v_exit, self.v_cruise + 1),
+                                 ("accel", self.accel, 1 << ACCEL_BITS),
+                                 ("line_cost", self.line_cost, 1 << LINE_COST_BITS),
+                                 ("d_exit", self.d_exit, dist),
+                                 ("d_stop", self.d_stop, self.d_exit + 1)):
+            if not 0 <= value < top:
+                raise ProfileRangeError(name, f"{value} outside 0 .. {top - 1}")
+        if self.accel == 0:
+            raise ProfileRangeError("accel", "must be > 0")
+
+
+def move_cost(cost_class: int, profile: ProfileParams) -> int:
+    """Cost (BLU x 2^16) of a move of ``cost_class`` in a segment of ``profile``."""
+    if cost_class == CLASS_AXIS:
+        return COST_AXIS
+    if cost_class == CLASS_DIAG:
+        return COST_DIAG
+    return profile.line_cost
+
+
+@dataclass
+class ProfileInputs:
+    head_valid: int = 0         # a move is at the head of the move queue
+    head_class: int = CLASS_AXIS
+    head_last: int = 0          # it is its segment's last move
+    ready: int = 1              # every axis the head move steps is ready
+    next_valid: int = 0         # the next segment's profile is available
+    next_profile: ProfileParams | None = None
+    hold: int = 0
+    stop: int = 0
+    override: int = OVERRIDE_ONE    # 1/128 steps, 0..128 (above 128 counts as 128)
+
+
+@dataclass
+class ProfileOutputs:
+    """Registered state as the RTL shows it during the clock."""
+
+    v: int                  # speed register, BLU per clock x 2^38
+    dry: int                # sticky: a dry queue forced a deceleration
+    busy: int               # a segment is current or the speed is not 0
+
+
+@dataclass
+class ProfileView:
+    """Combinational, during the clock."""
+
+    pop: bool = False       # the head move is made at this edge
+    take: bool = False      # the next profile becomes current at this edge
+    cost: int = 0           # cost of the head move (BLU x 2^16)
+    target: int = 0         # target speed T (register units)
+    ramp_on: bool = False   # the exit staircase runs after this edge
+    ramp_step: bool = False     # it steps down at this edge
+    ramp_v: int = 0         # its speed after this edge
+    ramp_dry: bool = False  # it heads for the creep speed (dry queue) after this edge
+    dry_now: bool = False   # the dry condition started or keeps the staircase
+    holding: bool = False   # hold, at rest, no move can pop
+    stopped: bool = False   # stop, at rest: the rest is dropped at this edge
+
+
+class ProfileStage:
+    """Clock-by-clock model of the profile stage (``div``: tick = 2^div clocks).
+
+    Registers: ``v`` (speed), ``credit``, ``s`` (popped distance in the segment),
+    ``since`` / ``last_dir`` (the step cadence), ``cur`` (the current profile, with
+    ``accel`` kept after it ends), ``ov_q`` (override), ``dry`` (sticky) and the exit
+    staircase: ``ramp_on``, ``ramp_dry``, ``ramp_v`` (its speed), ``ramp_left``
+    (distance, BLU x 2^38, before its next step; DIV + 39 bits signed)."""
+
+    def __init__(self, div: int, width: int = 32):
+        if not 1 <= div <= 24:
+            raise ValueError("DIV must be 1..24")
+        self.div = div
+        self.tick = 1 << div
+        self.width = width
+        self.reset()
+
+    def reset(self) -> None:
+        self.cur: ProfileParams | None = None
+        self.v = 0
+        self.credit = 0
+        self.s = 0
+        self.accel = 0              # speed step of the last current segment
+        self.since = self.tick      # clocks since the last speed step, saturating
+        self.last_dir = 0           # direction of the last speed step (+1, -1, 0)
+        self.dry = 0
+        self.ov_q = OVERRIDE_ONE    # the override input, registered
+        self.ramp_on = False
+        self.ramp_dry = False
+        self.ramp_v = 0
+        self.ramp_left = 0
+
+    def outputs(self) -> ProfileOutputs:
+        return ProfileOutputs(v=self.v, dry=self.dry,
+                              busy=int(self.cur is not None or self.v != 0))
+
+    def _ramp(self, i: ProfileInputs, w: ProfileView, earned: int) -> None:
+        """The exit staircase: a speed limit that steps down by ``accel`` each time the
+        earned distance covers one tick at its current speed (distance-driven, so at
+        full speed it is the time staircase of ``ramp_distance`` exactly, and below it
+        (override, hold) it waits at the same distances instead of ending early)."""
+        cur, accel = self.cur, self.accel
+        exit_speed = cur.v_exit << SPEED_SHIFT if cur.v_exit else accel
+        dry_cond = bool(not i.next_valid and cur.v_exit)
+        on, dry_mode, ramp_v = self.ramp_on, self.ramp_dry, self.ramp_v
+        step = False
+        if not on:
+            if earned >= cur.d_exit:
+                on, step, ramp_v = True, True, cur.v_cruise << SPEED_SHIFT
+            elif earned >= cur.d_stop and dry_cond:
+                on, dry_mode, step = True, True, True
+                ramp_v = cur.v_cruise << SPEED_SHIFT
+        elif dry_mode and not dry_cond:
+            # the next profile came: back to the plan
+            if earned < cur.d_exit:
+                on, dry_mode = False, False
+            else:
+                dry_mode, ramp_v = False, max(ramp_v, exit_speed)
+        else:
+            step = self.ramp_left <= 0
+        floor = accel if dry_mode else exit_speed
+        if step:
+            ramp_v = max(ramp_v - accel, floor)
+        w.ramp_on, w.ramp_dry, w.ramp_step, w.ramp_v = on, dry_mode, step, ramp_v
+        w.dry_now = bool(on and dry_mode)
+
+    def view(self, i: ProfileInputs) -> ProfileView:
+        w = ProfileView()
+        cur = self.cur
+        if cur is None:
+            w.target = 0
+            w.take = bool(i.next_valid and not i.stop)
+            return w
+        # the override: (v_cruise << 6) * ov >> 7, ov <= 128: a shift-add of 8 terms
+        target = ((cur.v_cruise << SPEED_SHIFT) * self.ov_q) >> 7
+        earned = self.s + (self.credit >> COST_SHIFT)
+        self._ramp(i, w, earned)
+        if w.ramp_on:
+            target = min(target, w.ramp_v)
+        if i.hold or i.stop:
+            target = 0
+        w.target = target
+        w.cost = move_cost(i.head_class, cur) if i.head_valid else 0
+        at_rest_stop = bool(i.stop and self.v == 0)
+        can_pop = bool(i.head_valid and (self.credit >> COST_SHIFT) >= w.cost)
+        w.pop = can_pop and bool(i.ready) and not at_rest_stop
+        w.stopped = at_rest_stop
+        w.holding = bool(i.hold and self.v == 0 and not can_pop)
+        w.take = bool(w.pop and i.head_last and i.next_valid)
+        return w
+
+    def clock(self, i: ProfileInputs) -> ProfileView:
+        """One rising edge; returns the view of the clock that ended."""
+        w = self.view(i)
+        # speed: one step of accel towards the target, same-direction steps a tick apart
+        v, t = self.v, w.target
+        direction = 0
+        if t > v and (self.last_dir != 1 or self.since >= self.tick):
+            direction, v = 1, min(v + self.accel, t)
+        elif t < v and (self.last_dir != -1 or self.since >= self.tick):
+            direction, v = -1, max(v - self.accel, t)
+        if direction:
+            self.last_dir, self.since = direction, 1
+        elif self.since < self.tick:
+            self.since += 1
+        # credit and distance (the credit gains the speed of the clock that ended)
+        gain = 0
+        segment_ends = False
+        if w.stopped:
+            self.cur, self.credit, self.s = None, 0, 0
+        elif self.cur is not None:
+            spent = (w.cost << COST_SHIFT) if w.pop else 0
+            credit = min(self.credit + self.v - spent,
+                         (self.cur.largest_cost() << COST_SHIFT) << 1)
+            gain = credit - (self.credit - spent)       # the earned distance grew by it
+            self.credit = credit
+            if w.pop:
+                self.s += w.cost
+                if i.head_last:
+                    self.s, self.cur, segment_ends = 0, None, True
+        # the exit staircase: (W - 1) clocks of its new speed to its next step
+        self.ramp_on, self.ramp_dry, self.ramp_v = w.ramp_on, w.ramp_dry, w.ramp_v
+        if w.ramp_step:
+            self.ramp_left += (w.ramp_v << self.div) - w.ramp_v   # carries the overshoot
+        elif w.ramp_on:
+            self.ramp_left -= gain
+        if segment_ends or w.stopped or not w.ramp_on:
+            self.ramp_on, self.ramp_dry, self.ramp_left = False, False, 0
+        if w.take:
+            self.cur = i.next_profile
+            self.accel = i.next_profile.accel
+        if w.dry_now:
+            self.dry = 1
+        self.v = v
+        self.ov_q = min(i.override, OVERRIDE_ONE)
+        return w
+
+
+# --- host side: the distances, bit-exact ---------------------------------------------------
+
+def ramp_distance(v_from: int, v_to: int, accel: int, div: int) -> int:
+    """Distance (BLU x 2^38) earned from the clock whose edge makes the first speed
+    step down from ``v_from`` until the first clock at ``v_to`` (register units),
+    steps of ``accel`` every 2^div clocks, the last one clamped at ``v_to``:
+    v_from (the trigger clock) + 2^div * sum_{k=1}^{N-1} (v_from - k accel),
+    N = ceil((v_from - v_to) / accel).  0 if v_from <= v_to."""
+    if v_from <= v_to:
+        return 0
+    n = -(-(v_from - v_to) // accel)
+    m = n - 1
+    return v_from + ((m * v_from - accel * (m * n // 2)) << div)
+
+
+def accel_distance(v_from: int, v_to: int, accel: int, div: int) -> int:
+    """Largest distance (BLU x 2^38) earned from a segment's first clock at ``v_from``
+    until the first clock at ``v_to`` > v_from, when the first step may wait up to
+    2^div - 1 clocks (the previous step was also up): 2^div * (v_from + sum_{k=1}^{M-1}
+    (v_from + k accel)).  0 if v_to <= v_from."""
+    if v_to <= v_from:
+        return 0
+    m = -(-(v_to - v_from) // accel)
+    return (m * v_from + accel * ((m - 1) * m // 2)) << div
+
+
+@dataclass(frozen=True)
+class ExitPlan:
+    """What ``exit_distance`` found: the distance and the assumptions behind it."""
+
+    d_exit: int             # BLU x 2^16
+    delayed: bool           # the first step down was assumed up to a tick late
+    fits: bool              # the segment is long enough (else d_exit is 0 and the
+                            # segment ends above the exit speed)
+
+
+def exit_distance(length: int, v_entry: int, v_peak: int, v_exit: int, accel: int,
+                  div: int) -> ExitPlan:
+    """d_exit for a segment of cost ``length`` (BLU x 2^16) entered at ``v_entry``,
+    cruising at ``v_peak`` and leaving at ``v_exit`` (field units, 2^-32; 0 = the
+    creep speed ``accel``), so that the stage, running without events, makes the
+    segment's last move at exactly the exit speed.
+
+    The conditions (see the model): the trigger clock n0 is the first with
+    E >= d_exit, so E(n0) < d_exit + v (one clock), or E(n0) = the carry < 2 v_entry
+    when d_exit is reached at once; the segment's last move pops on the first clock
+    with E >= length; so E(n0) + ramp <= length keeps every clock of the ramp before
+    it.  The first step down comes on the trigger clock unless the last speed step
+    was also down less than a tick before: possible only when the stage may still be
+    at the entry speed then (no acceleration reaches the peak before d_exit), in
+    which case up to 2^div clocks at the peak are reserved as well."""
+    vp = v_peak << SPEED_SHIFT
+    vin = v_entry << SPEED_SHIFT
+    vout = v_exit << SPEED_SHIFT if v_exit else accel
+    ramp = ramp_distance(vp, vout, accel, div)
+    total = length << COST_SHIFT
+    budget = total - ramp - vp
+    reach = 2 * vin + accel_distance(vin, vp, accel, div)
+    delayed = not (vp > vin and reach <= budget)
+    if delayed:
+        budget -= vp << div
+    fits = budget >= 2 * vin and budget >= vp
+    return ExitPlan(max(budget, 0) >> COST_SHIFT, delayed, fits)
+
+
+def max_entry_speed(length: int, v_exit: int, accel: int, div: int,
+                    v_limit: int) -> int:
+    """Largest entry speed (field units) <= v_limit from which a segment of cost
+    ``length`` that only decelerates still fits (``exit_distance(...).fits``): the
+    host's backward pass in integers."""
+    lo, hi = 0, v_limit
+    if exit_distance(length, hi, hi, v_exit, accel, div).fits:
+        return hi
+    while lo < hi:
+        mid = (lo + hi + 1) // 2
+        if exit_distance(length, mid, mid, v_exit, accel, div).fits:
+            lo = mid
+        else:
+            hi = mid - 1
+    return lo
+
+
+def peak_speed(length: int, v_entry: int, v_cruise: int, v_exit: int, accel: int,
+               div: int) -> int:
+    """The speed the segment is planned to reach (field units): ``v_cruise`` when the
+    staircase reaches it before ``d_exit`` (a trapezoid), else the largest speed below
+    it that it reaches (a triangle; binary search, the conditions being monotone in
+    the peak), else max(v_entry, v_exit) (the segment only decelerates, or cannot
+    even reach its exit speed: the stage then ends it below, never above)."""
+    def good(vp):
+        plan = exit_distance(length, v_entry, vp, v_exit, accel, div)
+        return plan.fits and not plan.delayed
+
+    floor = max(v_entry, v_exit)
+    if v_cruise <= floor or good(v_cruise):
+        return max(v_cruise, floor)
+    lo, hi = floor, v_cruise - 1
+    if not good(lo + 1):
+        return floor
+    lo += 1
+    while lo < hi:
+        mid = (lo + hi + 1) // 2
+        if good(mid):
+            lo = mid
+        else:
+            hi = mid - 1
+    return lo
+
+
+def max_exit_speed(length: int, v_entry: int, accel: int, div: int, v_limit: int) -> int:
+    """Largest exit speed (field units) <= v_limit that a segment of cost ``length``
+    entered at ``v_entry`` surely reaches before its d_exit (the host's forward pass
+    in integers); v_entry if it cannot accelerate at all."""
+    def good(ve):
+        plan = exit_distance(length, v_entry, ve, ve, accel, div)
+        return plan.fits and not plan.delayed
+
+    if v_limit <= v_entry or good(v_limit):
+        return v_limit
+    lo, hi = v_entry, v_limit - 1
+    while lo < hi:
+        mid = (lo + hi + 1) // 2
+        if good(mid):
+            lo = mid
+        else:
+            hi = mid - 1
+    return lo
+
+
+def make_profile(length: int, v_entry: int, v_cruise: int, v_exit: int, accel: int,
+                 div: int, line_cost: int = 0) -> ProfileParams:
+    """The PROFILE fields of one segment entered at ``v_entry`` (field units): the
+    peak (``peak_speed``) as its cruise speed, d_exit and d_stop computed bit-exactly
+    (d_stop: decelerate to the creep speed; equal to d_exit when v_exit is 0, never
+    after it)."""
+    peak = peak_speed(length, v_entry, v_cruise, v_exit, accel, div)
+    d_exit = exit_distance(length, v_entry, peak, v_exit, accel, div).d_exit
+    d_stop = d_exit
+    if v_exit:
+        d_stop = min(d_exit, exit_distance(length, v_entry, peak, 0, accel, div).d_exit)
+    return ProfileParams(peak, v_exit, accel, line_cost, d_exit, d_stop)
+
+
+def plan_integer(lengths, v_cruise, v_exit, accel, div, line_costs=None):
+    """Profiles for a chain of segments (the host's integer pass).  ``v_exit[k]`` is
+    the planned junction speed after segment k (field units; the last one 0).  A
+    backward pass lowers junction speeds a segment cannot decelerate from in
+    integers (staircase, trigger clock, possible late first step), a forward pass
+    those a segment cannot surely accelerate to (grbl's ``planner_recalculate``
+    passes, on the stage's own integers); each segment's peak is ``peak_speed``.
+    Returns the ProfileParams; running them without events, every segment's last
+    move is made at exactly its exit speed (the creep speed for 0)."""
+    n = len(lengths)
+    line_costs = line_costs or [0] * n
+    exits = list(v_exit)
+    for k in range(n - 1, -1, -1):
+        entry_max = max_entry_speed(lengths[k], exits[k], accel[k], div,
+                                    max(v_cruise[k], exits[k]))
+        if k > 0:
+            exits[k - 1] = min(exits[k - 1], entry_max, v_cruise[k])
+    out = []
+    v_in = 0
+    for k in range(n):
+        exits[k] = min(exits[k], max_exit_speed(lengths[k], v_in, accel[k], div, exits[k]))
+        out.append(make_profile(lengths[k], v_in, max(v_cruise[k], v_in), exits[k],
+                                accel[k], div, line_costs[k]))
+        v_in = exits[k]
+    return out
+
+
+# --- host side: units ------------------------------------------------------------------------
+
+def choose_div(clock_hz: int) -> int:
+    """DIV for a clock: the smallest with a tick 2^DIV / clock_hz >= 80 us (82 us at
+    50 MHz, DIV 12; 10 MHz: 10, 200 MHz: 14).  Long enough that the slowest
+    acceleration (5 mm/s^2 on arcs, 10 um BLU) is a speed step of >= 2^-32.2 BLU per
+    clock, within 1 % in 2^-38; short enough for a fine staircase (50,000 mm/s^2 at
+    80-160 us is 4-8 mm/s a step)."""
+    lo, hi = CLOCK_RANGE_HZ
+    if not lo <= clock_hz <= hi:
+        raise ProfileRangeError("clock_hz", f"{clock_hz} outside {lo} .. {hi}")
+    need = Fraction(clock_hz) * Fraction(TICK_MIN_S)
+    div = 0
+    while (1 << div) < need:
+        div += 1
+    return div
+
+
+def _field(quantity: str, exact: Fraction, bits: int) -> int:
+    if exact < 0:
+        raise ProfileRangeError(quantity, "must be >= 0")
+    value = math.floor(exact)
+    if value >= 1 << bits:
+        raise ProfileRangeError(quantity, f"{float(exact):.6g} does not fit {bits} bits")
+    if exact > 0 and (exact - value) / exact > MAX_ERROR:
+        raise ProfileRangeError(quantity, f"{float(exact):.6g} LSB: error above 1 %")
+    return value
+
+
+def speed_field(mm_s: float, blu_mm: float, clock_hz: int, quantity: str = "speed") -> int:
+    """A path speed in mm/s as a v_cruise / v_exit field (floor: never faster)."""
+    exact = Fraction(mm_s) / Fraction(blu_mm) / clock_hz * (1 << FIELD_SPEED_FRAC)
+    return _field(quantity, exact, FIELD_SPEED_BITS)
+
+
+def accel_field(mm_s2: float, blu_mm: float, clock_hz: int, div: int,
+                quantity: str = "accel") -> int:
+    """A path acceleration in mm/s^2 as the speed step per tick (floor)."""
+    exact = (Fraction(mm_s2) / Fraction(blu_mm) / clock_hz / clock_hz
+             * (1 << div) * (1 << SPEED_FRAC))
+    value = _field(quantity, exact, ACCEL_BITS)
+    if value == 0:
+        raise ProfileRangeError(quantity, "rounds to 0")
+    return value
+
+
+def line_cost_field(length_mm: float, iterations: int, blu_mm: float) -> int:
+    """Cost of one line iteration, (length / iterations) in BLU of X, x 2^16
+    (nearest)."""
+    exact = Fraction(length_mm) / iterations / Fraction(blu_mm) * (1 << COST_FRAC)
+    value = round(exact)
+    if not 0 < value < 1 << LINE_COST_BITS:
+        raise ProfileRangeError("line_cost", f"{float(exact):.6g} does not fit 18 bits")
+    if abs(value - exact) / exact > MAX_ERROR:
+        raise ProfileRangeError("line_cost", "error above 1 %")
+    return value
+
+
+# --- a driver for tests and the host's time estimate ----------------------------------------
+
+@dataclass
+class RunResult:
+    pops: list = field(default_factory=list)        # (clock, segment, index) per move
+    v: list = field(default_factory=list)           # speed register per clock
+    segment: list = field(default_factory=list)     # current segment per clock (-1: none)
+    s: list = field(default_factory=list)           # popped distance per clock
+    holding: list = field(default_factory=list)
+    stopped_at: int | None = None
+    dry: int = 0
+    clocks: int = 0
+
+
+def run_segments(profiles, moves_per_segment, div: int, inputs=None, arrival=None,
+                 ready=None, max_clocks: int = 10_000_000, trace: bool = False) -> RunResult:
+    """Run the stage over ``profiles`` and their moves (a list of cost classes per
+    segment) and return the pop clock of every move.  ``arrival[k]``: first clock at
+    which segment k's profile and moves are available (default 0: the queue never
+    runs dry); ``inputs(clock)`` -> (hold, stop, override); ``ready(clock)`` -> the
+    STEP/DIR readiness.  Stops when every move is popped (or dropped by stop) and
+    the speed is 0."""
+    stage = ProfileStage(div)
+    res = RunResult()
+    n = len(profiles)
+    seg_in = 0                  # next profile to hand over
+    cur_seg = -1
+    idx = 0                     # index of the head move within cur_seg
+    clock = 0
+    while clock < max_clocks:
+        hold, stop, override = inputs(clock) if inputs else (0, 0, OVERRIDE_ONE)
+        nxt_ok = seg_in < n and (arrival is None or clock >= arrival[seg_in])
+        head = cur_seg >= 0 and stage.cur is not None
+        inp = ProfileInputs(
+            head_valid=int(head), next_valid=int(nxt_ok),
+            next_profile=profiles[seg_in] if nxt_ok else None,
+            hold=hold, stop=stop, override=override,
+            ready=int(ready(clock)) if ready else 1)
+        if head:
+            moves = moves_per_segment[cur_seg]
+            inp.head_class = moves[idx]
+            inp.head_last = int(idx == len(moves) - 1)
+        if trace:
+            res.v.append(stage.v)
+            res.segment.append(cur_seg if stage.cur is not None else -1)
+            res.s.append(stage.s)
+        w = stage.clock(inp)
+        if trace:
+            res.holding.append(w.holding)
+        if w.pop:
+            res.pops.append((clock, cur_seg, idx))
+            idx += 1
+            if inp.head_last:
+                cur_seg, idx = -1, 0
+        if w.stopped:
+            res.stopped_at = clock
+            cur_seg, idx, seg_in = -1, 0, n
+        if w.take:
+            cur_seg, idx = seg_in, 0
+            seg_in += 1
+        clock += 1
+        if seg_in == n and stage.cur is None and stage.v == 0:
+            break
+    res.dry = stage.dry
+    res.clocks = clock
+    return res
