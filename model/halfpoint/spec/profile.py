@@ -216,6 +216,9 @@ class ProfileView:
     ramp_v: int = 0         # its speed after this edge
     ramp_dry: bool = False  # it heads for the creep speed (dry queue) after this edge
     dry_now: bool = False   # the dry condition started or keeps the staircase
+    ramp_left: int = 0      # the staircase's distance to its next step after this edge
+    credit: int = 0         # credit after this edge (while a segment is current)
+    gain: int = 0           # the earned distance grows by this at this edge
     holding: bool = False   # hold, at rest, no move can pop
     stopped: bool = False   # stop, at rest: the rest is dropped at this edge
 
@@ -266,6 +269,7 @@ class ProfileStage:
         dry_cond = bool(not i.next_valid and cur.v_exit)
         on, dry_mode, ramp_v = self.ramp_on, self.ramp_dry, self.ramp_v
         step = False
+        start = not on
         if not on:
             if earned >= cur.d_exit:
                 on, step, ramp_v = True, True, cur.v_cruise << SPEED_SHIFT
@@ -279,12 +283,19 @@ class ProfileStage:
             else:
                 dry_mode, ramp_v = False, max(ramp_v, exit_speed)
         else:
-            step = self.ramp_left <= 0
+            step = self.ramp_left <= w.gain     # this clock ends the level
         floor = accel if dry_mode else exit_speed
         if step:
             ramp_v = max(ramp_v - accel, floor)
         w.ramp_on, w.ramp_dry, w.ramp_step, w.ramp_v = on, dry_mode, step, ramp_v
         w.dry_now = bool(on and dry_mode)
+        # distance left in the level: a new level is 2^div clocks of its speed; the
+        # clock that starts the staircase counts before it, later steps carry the rest
+        left = self.ramp_left if not start else w.gain
+        left -= w.gain
+        if step:
+            left += ramp_v << self.div
+        w.ramp_left = left if on else 0
 
     def view(self, i: ProfileInputs) -> ProfileView:
         w = ProfileView()
@@ -293,6 +304,17 @@ class ProfileStage:
             w.target = 0
             w.take = bool(i.next_valid and not i.stop)
             return w
+        w.cost = move_cost(i.head_class, cur) if i.head_valid else 0
+        at_rest_stop = bool(i.stop and self.v == 0)
+        can_pop = bool(i.head_valid and (self.credit >> COST_SHIFT) >= w.cost)
+        w.pop = can_pop and bool(i.ready) and not at_rest_stop
+        w.stopped = at_rest_stop
+        w.holding = bool(i.hold and self.v == 0 and not can_pop)
+        w.take = bool(w.pop and i.head_last and i.next_valid)
+        # credit: gains the speed of this clock, capped; the earned distance grows by gain
+        spent = (w.cost << COST_SHIFT) if w.pop else 0
+        w.credit = min(self.credit + self.v - spent, (cur.largest_cost() << COST_SHIFT) << 1)
+        w.gain = w.credit - (self.credit - spent)
         # the override: (v_cruise << 6) * ov >> 7, ov <= 128: a shift-add of 8 terms
         target = ((cur.v_cruise << SPEED_SHIFT) * self.ov_q) >> 7
         earned = self.s + (self.credit >> COST_SHIFT)
@@ -302,13 +324,6 @@ class ProfileStage:
         if i.hold or i.stop:
             target = 0
         w.target = target
-        w.cost = move_cost(i.head_class, cur) if i.head_valid else 0
-        at_rest_stop = bool(i.stop and self.v == 0)
-        can_pop = bool(i.head_valid and (self.credit >> COST_SHIFT) >= w.cost)
-        w.pop = can_pop and bool(i.ready) and not at_rest_stop
-        w.stopped = at_rest_stop
-        w.holding = bool(i.hold and self.v == 0 and not can_pop)
-        w.take = bool(w.pop and i.head_last and i.next_valid)
         return w
 
     def clock(self, i: ProfileInputs) -> ProfileView:
@@ -325,27 +340,19 @@ class ProfileStage:
             self.last_dir, self.since = direction, 1
         elif self.since < self.tick:
             self.since += 1
-        # credit and distance (the credit gains the speed of the clock that ended)
-        gain = 0
+        # credit and distance
         segment_ends = False
         if w.stopped:
             self.cur, self.credit, self.s = None, 0, 0
         elif self.cur is not None:
-            spent = (w.cost << COST_SHIFT) if w.pop else 0
-            credit = min(self.credit + self.v - spent,
-                         (self.cur.largest_cost() << COST_SHIFT) << 1)
-            gain = credit - (self.credit - spent)       # the earned distance grew by it
-            self.credit = credit
+            self.credit = w.credit
             if w.pop:
                 self.s += w.cost
                 if i.head_last:
                     self.s, self.cur, segment_ends = 0, None, True
-        # the exit staircase: (W - 1) clocks of its new speed to its next step
+        # the exit staircase; it ends with its segment
         self.ramp_on, self.ramp_dry, self.ramp_v = w.ramp_on, w.ramp_dry, w.ramp_v
-        if w.ramp_step:
-            self.ramp_left += (w.ramp_v << self.div) - w.ramp_v   # carries the overshoot
-        elif w.ramp_on:
-            self.ramp_left -= gain
+        self.ramp_left = w.ramp_left
         if segment_ends or w.stopped or not w.ramp_on:
             self.ramp_on, self.ramp_dry, self.ramp_left = False, False, 0
         if w.take:
