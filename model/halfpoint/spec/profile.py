@@ -260,21 +260,25 @@ class ProfileStage:
                               busy=int(self.cur is not None or self.v != 0))
 
     def _ramp(self, i: ProfileInputs, w: ProfileView, earned: int) -> None:
-        """The exit staircase: a speed limit that steps down by ``accel`` each time the
-        earned distance covers one tick at its current speed (distance-driven, so at
-        full speed it is the time staircase of ``ramp_distance`` exactly, and below it
-        (override, hold) it waits at the same distances instead of ending early)."""
+        """The exit staircase: a speed limit that starts at the segment's peak when the
+        earned distance reaches d_exit (or d_stop with the queue dry) and steps down
+        by ``accel`` each time the earned distance covers one tick (2^div clocks) at
+        its current speed, down to the exit speed (the creep speed when dry).  At full
+        speed its levels last exactly a tick, its first step comes a tick after its
+        start (so the cadence never holds that step back: no phase to predict), and
+        ``exit_ramp_distance`` is its length; slower (override, hold) it keeps the same
+        distances, so the stage rejoins it instead of finishing early and creeping."""
         cur, accel = self.cur, self.accel
         exit_speed = cur.v_exit << SPEED_SHIFT if cur.v_exit else accel
         dry_cond = bool(not i.next_valid and cur.v_exit)
         on, dry_mode, ramp_v = self.ramp_on, self.ramp_dry, self.ramp_v
         step = False
-        start = not on
+        start = False
         if not on:
             if earned >= cur.d_exit:
-                on, step, ramp_v = True, True, cur.v_cruise << SPEED_SHIFT
+                on, start, ramp_v = True, True, cur.v_cruise << SPEED_SHIFT
             elif earned >= cur.d_stop and dry_cond:
-                on, dry_mode, step = True, True, True
+                on, start, dry_mode = True, True, True
                 ramp_v = cur.v_cruise << SPEED_SHIFT
         elif dry_mode and not dry_cond:
             # the next profile came: back to the plan
@@ -287,15 +291,16 @@ class ProfileStage:
         floor = accel if dry_mode else exit_speed
         if step:
             ramp_v = max(ramp_v - accel, floor)
-        w.ramp_on, w.ramp_dry, w.ramp_step, w.ramp_v = on, dry_mode, step, ramp_v
-        w.dry_now = bool(on and dry_mode)
-        # distance left in the level: a new level is 2^div clocks of its speed; the
-        # clock that starts the staircase counts before it, later steps carry the rest
-        left = self.ramp_left if not start else w.gain
+        # distance left in the level: a level is 2^div clocks of its speed, the first
+        # one counted from the clock that starts it; a step carries what the clock
+        # ending the level ran beyond it
+        left = (ramp_v << self.div) if start else self.ramp_left
         left -= w.gain
         if step:
             left += ramp_v << self.div
+        w.ramp_on, w.ramp_dry, w.ramp_step, w.ramp_v = on, dry_mode, step, ramp_v
         w.ramp_left = left if on else 0
+        w.dry_now = bool(on and dry_mode)
 
     def view(self, i: ProfileInputs) -> ProfileView:
         w = ProfileView()
@@ -391,12 +396,22 @@ def accel_distance(v_from: int, v_to: int, accel: int, div: int) -> int:
     return (m * v_from + accel * ((m - 1) * m // 2)) << div
 
 
+def exit_ramp_distance(v_from: int, v_to: int, accel: int, div: int) -> int:
+    """Distance (BLU x 2^38) the stage earns from the clock its exit staircase starts
+    at ``v_from`` until its first clock at ``v_to`` (register units), at full speed:
+    a first level of 2^div clocks at v_from (the first step comes a tick after the
+    start), then ``ramp_distance`` less its first clock.  0 if v_from <= v_to."""
+    if v_from <= v_to:
+        return 0
+    return (v_from << div) + ramp_distance(v_from, v_to, accel, div) - v_from
+
+
 @dataclass(frozen=True)
 class ExitPlan:
     """What ``exit_distance`` found: the distance and the assumptions behind it."""
 
     d_exit: int             # BLU x 2^16
-    delayed: bool           # the first step down was assumed up to a tick late
+    accelerates: bool       # the peak is surely reached before d_exit (by steps up)
     fits: bool              # the segment is long enough (else d_exit is 0 and the
                             # segment ends above the exit speed)
 
@@ -404,30 +419,28 @@ class ExitPlan:
 def exit_distance(length: int, v_entry: int, v_peak: int, v_exit: int, accel: int,
                   div: int) -> ExitPlan:
     """d_exit for a segment of cost ``length`` (BLU x 2^16) entered at ``v_entry``,
-    cruising at ``v_peak`` and leaving at ``v_exit`` (field units, 2^-32; 0 = the
+    peaking at ``v_peak`` and leaving at ``v_exit`` (field units, 2^-32; 0 = the
     creep speed ``accel``), so that the stage, running without events, makes the
     segment's last move at exactly the exit speed.
 
-    The conditions (see the model): the trigger clock n0 is the first with
-    E >= d_exit, so E(n0) < d_exit + v (one clock), or E(n0) = the carry < 2 v_entry
-    when d_exit is reached at once; the segment's last move pops on the first clock
-    with E >= length; so E(n0) + ramp <= length keeps every clock of the ramp before
-    it.  The first step down comes on the trigger clock unless the last speed step
-    was also down less than a tick before: possible only when the stage may still be
-    at the entry speed then (no acceleration reaches the peak before d_exit), in
-    which case up to 2^div clocks at the peak are reserved as well."""
+    The conditions (see the model): the staircase starts on the first clock n0 with
+    E >= d_exit, so E(n0) < d_exit + v (one clock's gain), or E(n0) = the carry
+    < 2 v_entry when d_exit is reached at once; the segment's last move pops on the
+    first clock with E >= length; E(n0) + exit_ramp_distance <= length therefore
+    keeps every clock of the staircase before it, and the last move is made at the
+    exit speed.  ``accelerates``: from v_entry the stage surely reaches v_peak before
+    d_exit (worst phase of its steps up, ``accel_distance``); else it may start the
+    staircase below the peak and end it early (it then runs the rest at the exit
+    speed: slower, never faster)."""
     vp = v_peak << SPEED_SHIFT
     vin = v_entry << SPEED_SHIFT
     vout = v_exit << SPEED_SHIFT if v_exit else accel
-    ramp = ramp_distance(vp, vout, accel, div)
     total = length << COST_SHIFT
-    budget = total - ramp - vp
+    budget = total - exit_ramp_distance(vp, vout, accel, div) - vp
     reach = 2 * vin + accel_distance(vin, vp, accel, div)
-    delayed = not (vp > vin and reach <= budget)
-    if delayed:
-        budget -= vp << div
+    accelerates = vp > vin and reach <= budget
     fits = budget >= 2 * vin and budget >= vp
-    return ExitPlan(max(budget, 0) >> COST_SHIFT, delayed, fits)
+    return ExitPlan(max(budget, 0) >> COST_SHIFT, accelerates, fits)
 
 
 def max_entry_speed(length: int, v_exit: int, accel: int, div: int,
@@ -456,7 +469,7 @@ def peak_speed(length: int, v_entry: int, v_cruise: int, v_exit: int, accel: int
     even reach its exit speed: the stage then ends it below, never above)."""
     def good(vp):
         plan = exit_distance(length, v_entry, vp, v_exit, accel, div)
-        return plan.fits and not plan.delayed
+        return plan.fits and plan.accelerates
 
     floor = max(v_entry, v_exit)
     if v_cruise <= floor or good(v_cruise):
@@ -480,7 +493,7 @@ def max_exit_speed(length: int, v_entry: int, accel: int, div: int, v_limit: int
     in integers); v_entry if it cannot accelerate at all."""
     def good(ve):
         plan = exit_distance(length, v_entry, ve, ve, accel, div)
-        return plan.fits and not plan.delayed
+        return plan.fits and plan.accelerates
 
     if v_limit <= v_entry or good(v_limit):
         return v_limit
@@ -504,7 +517,8 @@ def make_profile(length: int, v_entry: int, v_cruise: int, v_exit: int, accel: i
     d_exit = exit_distance(length, v_entry, peak, v_exit, accel, div).d_exit
     d_stop = d_exit
     if v_exit:
-        d_stop = min(d_exit, exit_distance(length, v_entry, peak, 0, accel, div).d_exit)
+        d_stop = min(d_exit,
+                     exit_distance(length, v_entry, peak, 0, accel, div).d_exit)
     return ProfileParams(peak, v_exit, accel, line_cost, d_exit, d_stop)
 
 
