@@ -51,54 +51,82 @@ Per clock (``ProfileStage.clock``):
 
 * credit += v while a segment is current, capped at twice the segment's largest
   cost (arcs: the diagonal cost, lines: the line cost), so credit cannot pile up
-  while nothing can move; a move pops when credit >= its cost, the head is valid,
-  ``ready`` and not ``stop`` at rest; credit -= cost, s += cost; on the segment's
-  last move the next profile becomes current (if available) and s restarts at 0,
-  the credit's remainder carried.
-* the target speed T (combinational, every clock): 0 under ``hold`` or ``stop``
-  or when no segment is current; else the cruise speed scaled by the override
-  (``v_cruise * ov / 128``, ov in 0..128), lowered to the exit speed (the creep
-  speed, one speed step ``accel``, if the exit speed is 0, so the segment
-  finishes) once E >= d_exit, and to the creep speed once E >= d_stop while the
-  next profile is not available and the exit speed is not 0 (sticky ``dry``).
-  E = s + credit (the distance earned, not only popped: exact to one clock).
-* the speed steps by ``accel`` towards T (never past it) when T differs; two
-  steps in the same direction are at least 2^DIV clocks apart (a tick), a step in
-  the other direction may come at once.  So in any window of 2^DIV clocks the
-  speed changes by at most ``accel``: the acceleration limit, measured over a tick.
-  This is LinuxCNC's velocity change once per servo period (``tp.c``,
-  ``tpCalculateTrapezoidalVel``: new velocity = current +- accel * cycle time per
-  period), but with the period restarted by a change of target, so the deceleration
-  starts on the clock its distance is reached, not up to a tick late.
+  while nothing can move; a move pops when the head is valid, credit >= its cost,
+  ``ready``, and not ``stop`` at rest; credit -= cost, s += cost; on the segment's
+  last move the next profile becomes current (if available), s restarts at 0 and
+  the credit's remainder is carried.  E = s + credit (the distance earned, exact
+  to one clock, not only the distance popped) drives everything below.
+* the exit staircase (``_ramp``): a speed limit that starts at the segment's peak
+  on the first clock with E >= d_exit (or E >= d_stop while the next profile is not
+  available and the exit speed is not 0: the dry queue, sticky flag ``dry``) and
+  steps down by ``accel`` each time E has grown by one tick (2^DIV clocks) of its
+  current speed, down to the exit speed (to the creep speed, one speed step, when
+  the exit speed is 0 or the queue is dry, so the segment finishes).  Its first
+  step comes one tick after its start.  At full speed it is exactly the time
+  staircase of ``exit_ramp_distance``; slower (override, hold, stalls) it keeps the
+  same distances, so the stage rejoins it instead of finishing the ramp early and
+  creeping the rest.  If the next profile arrives while it heads for the creep
+  speed, it returns to the plan (off before d_exit, else floor back to the exit
+  speed).
+* the target T: 0 under ``hold`` or ``stop`` or with no segment; else the cruise
+  speed scaled by the override, ``(v_cruise << 6) * ov >> 7`` (ov in 1/128, 0..128;
+  a shift-add of 8 terms), limited by the staircase.
+* the speed steps by ``accel`` towards T (never past it); two steps in the same
+  direction are at least 2^DIV clocks apart, a step in the other direction may
+  come at once.  So in any window of 2^DIV clocks the speed changes by at most
+  ``accel``: the acceleration limit, measured over a tick.
 
-Why not a free-running tick (the lead's first design): a decision once per tick can
-start the deceleration up to one tick of cruise distance late; the ramp then runs
-out of segment with the speed still sqrt(2 v accel) above the exit speed, about
-14 steps for a ramp of 100 steps, or (if the host plans for it) it must start a tick
-early and creep the rest at the exit speed, which at the creep speed doubles the
-ramp's time.  Triggering per clock on the earned distance keeps both to one clock.
+Peers: the speed changes once per period as in LinuxCNC's trajectory planner
+(``tp.c``, ``tpCalculateTrapezoidalAccel``, once per servo period; it limits the
+speed by the distance to go, v_f^2 + 2 a dx, with a square root the stage avoids
+by taking d_exit from the host) and Smoothieware's acceleration ticks
+(``StepTicker``, ``set_acceleration_ticks_per_second``, 1000 per second); the
+distance where deceleration starts is Marlin's / Smoothieware's ``decelerate_after``
+and grbl's ``st_prep_t.decelerate_after`` (from the planner's ``accelerate_until``
+/ ``decelerate_after`` arithmetic), here in path cost units and compared with the
+earned distance every clock; the host's backward and forward passes are grbl's
+``planner_recalculate`` on the stage's own integers (``plan_integer``).
 
-Where peers do the same: the distances are Smoothieware's / Marlin's
-``accelerate_until`` / ``decelerate_after`` and grbl's ``decelerate_after`` of
-``st_prep_t`` (compared with the steps done), but in path cost units and compared
-with the earned distance; the staircase is LinuxCNC's per-servo-period velocity.
+Why not the lead's free-running tick with a fixed d_exit: a decision once per tick
+starts the deceleration up to a tick of cruise distance late, so the ramp runs out
+of segment with the speed still about sqrt(2 v accel) above the exit speed (14 steps
+for a ramp of 100 steps), or, planned a tick early, ends early and creeps the rest
+at the exit speed (at the creep speed that doubles the ramp's time).  And a fixed
+d_exit with a time staircase finishes a slowed ramp (override 50 %: a quarter of
+the planned distance) early and creeps the rest: 2.95 times the full-speed time
+for the 1500-BLU segment of the tests, 1.79 times with the distance-driven one.
 
 Feed hold, stop, override (issue 13, item 5): hold decelerates at ``accel`` per tick
 along the path, across segment boundaries, to rest, and stays (``holding``: hold, v
 = 0, no move can pop); releasing it accelerates back to the target.  Stop does the
-same and, at rest, drops the current segment and credit and reports ``stopped``
-(the core flushes its queues while stop is high at rest).  The override acts on the
-target, so its changes ramp at ``accel`` like any other change of target.  Moves
-are only delayed, never reordered, merged or dropped (except by stop).
+same and, at rest, drops the current segment and credit (``stopped``; the core
+flushes its queues while stop is high at rest).  The override acts on the target,
+so its changes ramp at ``accel`` like any change of target.  Moves are only
+delayed, never reordered, merged or dropped (except by stop).
 
-Dry queue: from ``d_stop`` on, with no next profile available, the stage
-decelerates to the creep speed, so the segment ends at (at most) that speed and the
-stage then stops at once (a step of ``accel`` at most).  Where the segment is too
-short for that (``d_stop`` = 0 and the entry speed too high) the deceleration starts
-at the segment's start and the segment ends above the creep speed: the last move
-pops at that speed and the speed then falls in one clock, the one case where the
-acceleration limit is not kept; ``dry`` flags it (the host should not let the queue
-run dry).
+Dry queue: from ``d_stop`` on, with no next profile, the stage decelerates to the
+creep speed, so the segment ends at that speed and the stage then stops (one step
+of ``accel``).  Where the segment is too short for that (``d_stop`` = 0 and the
+entry speed too high) the deceleration starts at the segment's start, the segment
+ends above the creep speed and the speed falls to 0 at once when it ends: the one
+case where the acceleration limit is not kept; ``dry`` flags it.
+
+Bounds (proved where said, else measured by the tests):
+
+* no events, profiles from ``plan_integer``: every segment's last move is made at
+  exactly its exit speed (creep speed for 0); the speed never exceeds the peak and
+  stays within ``accel`` of the planned curve v_plan(s) = min(v_cruise,
+  sqrt(v_exit^2 + 2 (accel / 2^DIV) (L - s))) (measured 0.82 of a step): the
+  staircase is above the linear ramp by less than a step.
+* any pattern of hold, override, dry queue, STEP/DIR stalls: measured at most 1.2
+  steps above v_plan(s); the tests hold it to 2 steps.  It exceeds one step when
+  the stage rejoins the staircase out of phase (after an override change): the
+  staircase then steps while the stage's cadence still waits, up to a tick.
+* the speed changes by at most ``accel`` in any 2^DIV clocks (proved by the
+  cadence rule), except the documented dry case above.
+* creep (clocks at the exit speed before the last move, no events): at most the
+  trigger clock's distance, v_peak / exit speed clocks, plus the 2^-16 rounding
+  of d_exit; triangles whose peak the staircase reaches only in part more.
 """
 
 from __future__ import annotations
