@@ -255,7 +255,7 @@ def test_holds_overrides_never_exceed_the_plan_and_keep_the_moves():
                            arrival=arrival, ready=ready)
         assert popped_in_order(res, moves)                   # move for move the same
         worst = max(worst, check_safety(res, profiles, moves, div, bound_steps=2))
-    assert worst <= 2            # the documented bound; measured up to 1.2 steps
+    assert worst <= 2            # the documented bound; measured up to 1.34 steps
 
 
 def test_hold_across_a_boundary_reaches_rest_stays_and_resumes():
@@ -406,10 +406,10 @@ def test_issue_ranges_fit_within_one_percent(clock, blu):
         f = pf.speed_field(v, blu, clock)
         exact = v / blu / clock * 2 ** 32
         assert (exact - f) / exact <= 0.01
-    for a in (5.0, 50_000.0 * math.sqrt(3)):
+    for a in (5.0, 5.05, 5.99, 7.3, 9.99, 50_000.0 * math.sqrt(3)):
         f = pf.accel_field(a, blu, clock, div)
         exact = a / blu / clock ** 2 * 2 ** div * 2 ** 38
-        assert 0 <= (exact - f) / exact <= 0.01
+        assert abs(exact - f) / exact <= 0.01
 
 
 def test_conversion_errors_name_the_quantity():
