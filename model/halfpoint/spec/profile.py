@@ -339,6 +339,8 @@ class ProfileStage:
         if cur is None:
             w.target = 0
             w.take = bool(i.next_valid and not i.stop)
+            w.holding = bool(i.hold and self.v == 0)
+            w.stopped = bool(i.stop and self.v == 0)
             return w
         w.cost = move_cost(i.head_class, cur) if i.head_valid else 0
         at_rest_stop = bool(i.stop and self.v == 0)
