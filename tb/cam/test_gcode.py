@@ -75,7 +75,7 @@ def test_tool_table_and_comp_radius():
         ("X1\nM2", 1, "axis words without a motion mode"),
         ("G1 X1\nM2", 1, "no feed rate set"),
         ("F10\nG1 X1 (unclosed\nM2", 2, "comment '(' is not closed"),
-        ("F10\nG1 X#1\nM2", 2, "parameters and expressions"),
+        ("F10\nG1 X#<nope>\nM2", 2, "named parameter #<nope> is not defined"),
         ("F10\nG2 X1 Y1\nM2", 2, "arc without I/J/K offsets or R"),
         ("F10\nG2 X1 Y1 I1 R2\nM2", 2, "either I/J/K offsets or R"),
         ("F10\nG2 X10 R2\nM2", 2, "too small for a chord"),
@@ -92,10 +92,21 @@ def test_tool_table_and_comp_radius():
         ("%\nG0 X1", 2, "no closing '%'"),
         ("G0 X1\n%\nM2", 2, "did not open with '%'"),
         ("F-5 G1 X1\nM2", 1, "feed rate F must be positive"),
-        ("F10\n/G1 X1\nM2", 2, "block delete"),
+        ("F10\nG1 X[1+2\nM2", 2, "unbalanced '['"),
     ],
 )
 def test_bad_program_names_line_and_reason(text, lineno, reason):
     with pytest.raises(GcodeError) as exc:
         parse(text)
     assert exc.value.lineno == lineno and reason in str(exc.value), str(exc.value)
+
+
+def test_parameters_expressions_and_block_delete_reach_the_parser():
+    """Parameters and expressions are evaluated before the block is parsed (LinuxCNC's
+    order: a parameter set on a line takes effect after it), and a line starting with
+    ``/`` is skipped (block delete on, the LinuxCNC default) or run (switch off)."""
+    prog = parse("F10\n#1=2\nG1 X#1 Y[#1 * 3]\n/G1 Z5\nM2")
+    assert [m.end for m in prog.moves] == [(2.0, 6.0, 0.0)]
+    assert [m.lineno for m in prog.moves] == [3]
+    prog = parse("F10\n#1=2\nG1 X#1 Y[#1 * 3]\n/G1 Z5\nM2", block_delete=False)
+    assert [m.end for m in prog.moves] == [(2.0, 6.0, 0.0), (2.0, 6.0, 5.0)]

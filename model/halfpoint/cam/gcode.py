@@ -57,6 +57,7 @@ class Move:
 class Program:
     moves: list[Move] = field(default_factory=list)
     ended: bool = False            # M2/M30 or closing %
+    messages: list = field(default_factory=list)   # (MSG, (DEBUG, (PRINT, in order (ngc.Message)
 
 
 _WORD = re.compile(r"([A-Za-z])\s*([+-]?(?:\d+\.?\d*|\.\d+))")
@@ -150,8 +151,18 @@ def load_tool_table(text: str) -> dict[int, float]:
 
 
 def parse(text: str, tools: dict[int, float] | None = None,
-          radius_override: float | None = None) -> Program:
-    """Parse a program into absolute moves in mm (see the module docstring)."""
+          radius_override: float | None = None, *, source: str = "",
+          block_delete: bool = True, search_path=()) -> Program:
+    """Parse a program into absolute moves in mm (see the module docstring).
+
+    The program's parameters, expressions and O-word control flow run first
+    (``halfpoint.cam.ngc.expand``, LinuxCNC's rules); the blocks it executes are
+    parsed here with their original line numbers.  ``block_delete``: skip lines
+    starting with ``/`` (the LinuxCNC default); ``search_path``: folders holding
+    ``name.ngc`` files for ``o<name> call``.
+    """
+    from .ngc import expand
+
     tools = tools or {}
     prog = Program()
     pos = [0.0, 0.0, 0.0]
@@ -162,15 +173,15 @@ def parse(text: str, tools: dict[int, float] | None = None,
     arc_absolute = False
     feed = 0.0
     comp, comp_r = "off", 0.0
-    lines = text.splitlines()
-    first = next((k for k, ln in enumerate(lines) if ln.strip()), None)
+    expanded = expand(text, source, block_delete=block_delete, search_path=search_path)
+    prog.messages = expanded.messages
     # "%" opens a demarcated program; "%1234" (a Fanuc-style program number,
     # as in seed 004's tests) is read the same way, the number ignored
-    percent = first is not None and re.fullmatch(r"%\d*", lines[first].strip()) is not None
-    for idx, raw in enumerate(lines):
-        lineno = idx + 1
+    percent = expanded.opening != 0
+    for block in expanded.blocks:
+        lineno, raw = block.lineno, block.text
         stripped = raw.strip()
-        if percent and idx == first:
+        if percent and block.source == "" and lineno == expanded.opening:
             continue
         if stripped == "%":
             if percent:
@@ -282,9 +293,9 @@ def parse(text: str, tools: dict[int, float] | None = None,
             break
     else:
         if percent:
-            raise GcodeError(len(lines), "program opened with '%' but has no closing '%'")
+            raise GcodeError(expanded.line_count, "program opened with '%' but has no closing '%'")
     if not prog.ended and not percent:
-        raise GcodeError(len(lines), "program has no M2 or M30 and is not demarcated with '%'")
+        raise GcodeError(expanded.line_count, "program has no M2 or M30 and is not demarcated with '%'")
     return prog
 
 
