@@ -139,3 +139,15 @@ def test_segments_bad_file_names_the_line(tmp_path, text, needle):
 def test_segments_missing_file():
     p = hp("segments", "no/such/file.jsonl")
     assert p.returncode == 2 and "cannot read" in p.stderr
+
+
+def test_program_messages_are_printed_with_their_line(tmp_path):
+    """(DEBUG, and (MSG, of the executed program reach stderr in order, naming the line;
+    the expressions behind them reach the output."""
+    f = tmp_path / "p.ngc"
+    f.write_text("#<r> = [2 * 3]\n(DEBUG, r is #<r>)\nF100 G1 X#<r>\n(MSG, done)\nM2\n")
+    r = hp("compensate", str(f))
+    assert r.returncode == 0, r.stderr
+    assert f"{f}: line 2: DEBUG: r is 6" in r.stderr
+    assert r.stderr.index("DEBUG") < r.stderr.index("line 4: MSG: done")
+    assert "X6" in r.stdout

@@ -122,18 +122,19 @@ def _comp_args(p) -> None:
 
 
 def cmd_compensate(args) -> int:
-    from .cam.run import load_program, print_warnings, to_gcode
+    from .cam.run import load_program, print_messages, print_warnings, to_gcode
 
     if args.window < 1:
         raise UsageError("--window must be at least 1")
-    _, comp = load_program(args.program, args.radius, args.tools, args.strict, args.window)
+    prog, comp = load_program(args.program, args.radius, args.tools, args.strict, args.window)
+    print_messages(args.program, prog.messages)
     print_warnings(args.program, comp.warnings)
     sys.stdout.write(to_gcode(comp.moves))
     return 0
 
 
 def cmd_run(args) -> int:
-    from .cam.run import plot_run, print_warnings, run_program, write_trace
+    from .cam.run import plot_run, print_messages, print_warnings, run_program, write_trace
     from .sim.engines import core_runner
 
     blu_z = args.blu if args.blu_z is None else args.blu_z
@@ -141,6 +142,7 @@ def cmd_run(args) -> int:
         raise UsageError("--blu and --blu-z must be positive")
     res = run_program(args.program, core_runner(args.engine), args.radius, args.tools, args.strict,
                       (args.blu, args.blu, blu_z), args.window)
+    print_messages(args.program, res.messages)
     print_warnings(args.program, res.warnings)
     print(f"blocks: {len(res.programmed)} programmed, {len(res.compensated)} after compensation")
     print(f"lattice moves: {len(res.lattice)} (engine: {args.engine}, BLU {args.blu:g} mm)")

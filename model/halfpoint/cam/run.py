@@ -13,7 +13,8 @@ from __future__ import annotations
 
 import math
 import sys
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from pathlib import Path
 
 from .comp import compensate, to_gcode
 from .gcode import Move, load_tool_table, parse
@@ -30,6 +31,7 @@ class RunResult:
     lattice: list[tuple[int, int, int]]      # positions after every move (BLU)
     max_dev_mm: float
     blu: tuple[float, float, float]
+    messages: list = field(default_factory=list)   # the program's (MSG/(DEBUG/(PRINT output
 
 
 def load_program(path: str, radius=None, tools_path=None, strict=False, window=5):
@@ -39,7 +41,9 @@ def load_program(path: str, radius=None, tools_path=None, strict=False, window=5
     if tools_path:
         with open(tools_path, encoding="utf-8") as fh:
             tools = load_tool_table(fh.read())
-    prog = parse(text, tools=tools, radius_override=radius)
+    # o<name> call finds name.ngc beside the program, as LinuxCNC's SUBROUTINE_PATH would
+    prog = parse(text, tools=tools, radius_override=radius, source=path,
+                 search_path=(str(Path(path).resolve().parent),))
     comp = compensate(prog.moves, window=window, strict=strict)
     return prog, comp
 
@@ -67,7 +71,8 @@ def run_program(path: str, execute=run_segments_model, radius=None, tools_path=N
         for p in trace[k:k + n]:
             dev = max(dev, el.distance((p[0] * blu[0], p[1] * blu[1])))
         k += n
-    return RunResult(prog.moves, comp.moves, comp.warnings, trace, dev, tuple(blu))
+    return RunResult(prog.moves, comp.moves, comp.warnings, trace, dev, tuple(blu),
+                     prog.messages)
 
 
 def _path_points(moves: list[Move], steps=64):
@@ -126,4 +131,12 @@ def print_warnings(path: str, warnings) -> None:
         print(f"halfpoint: {path}: warning: {w}", file=sys.stderr)
 
 
-__all__ = ["load_program", "run_program", "plot_run", "write_trace", "to_gcode", "print_warnings"]
+def print_messages(path: str, messages) -> None:
+    """The program's (MSG, (DEBUG, and (PRINT, output, in program order, on stderr."""
+    for m in messages:
+        print(f"halfpoint: {m.source or path}: line {m.lineno}: {m.kind}: {m.text}",
+              file=sys.stderr)
+
+
+__all__ = ["load_program", "run_program", "plot_run", "write_trace", "to_gcode", "print_warnings",
+           "print_messages"]
