@@ -66,6 +66,7 @@ from .spatial import (A0, CX, CY, K, R, SW, X0, X1, Y0, Y1, box_pairs, boxes, el
 TOL = 1e-6              # the gouge check's tolerance (mm)
 KEEP_TOL = 1e-7         # a piece is kept at distance >= r - KEEP_TOL
 MIN_PIECE = 1e-9        # pieces shorter than this are points
+CHORD_TOL = 1e-9        # a corner arc this close to its chord is run as the chord
 REACH_TOL = 1e-3        # a kept stretch shorter than this may stay unreached
 
 ENTRY, CONTOUR, CORNER, CONNECTOR, EXIT = range(5)
@@ -189,7 +190,11 @@ class _Stretch:
             a0 = math.atan2(a[1] - corner[1], a[0] - corner[0])
             a1 = math.atan2(b[1] - corner[1], b[0] - corner[0])
             sweep = -((a0 - a1) % TAU) if self.left else (a1 - a0) % TAU
-            arc = Arc(corner, self.r + gap, a0, sweep, src, True)
+            rho = self.r + gap
+            if rho * (1 - math.cos(sweep / 2)) < CHORD_TOL:
+                # a turn so small that its chord is within CHORD_TOL of the arc
+                return [Piece(Line(a, b, src, True), src, CORNER, "line", feed, z, z)], el, True
+            arc = Arc(corner, rho, a0, sweep, src, True)
             return [Piece(arc, src, CORNER, "arc", feed, z, z)], el, True
         if trim and type(prev.el) is Line and type(el) is Line:
             (x1, y1), (x2, y2) = prev.el.p0, prev.el.p1
@@ -343,6 +348,23 @@ class _Stretch:
             touch = element_distance(arr[ii], arr[jj]) <= 1e-9
             ii, jj = ii[touch], jj[touch]
         cuts: dict[int, list] = {}
+        if not self.closed:
+            # an open contour exposes what a closed one keeps inside the part:
+            # the far side of each block and the ends.  Their offsets bound
+            # the forbidden zone too; they cut pieces but are never followed.
+            bars = self._barriers()
+            if bars:
+                barr = pack(bars)
+                bi, bj = box_pairs(bx, boxes(barr), 1e-9)
+                if len(bi):
+                    touch = element_distance(arr[bi], barr[bj]) <= 1e-9
+                    for i, j in zip(bi[touch].tolist(), bj[touch].tolist()):
+                        for ta, _, pt in intersect(pieces[i].el, bars[j]):
+                            length = pieces[i].el.length()
+                            # (a piece that merely touches a barrier at its
+                            # end, as offsets of the first block do, is not cut)
+                            if 1e-6 < ta * length and (1 - ta) * length > 1e-6:
+                                cuts.setdefault(i, []).append((ta, pt))
         for i, j in zip(ii.tolist(), jj.tolist()):
             for ta, tb, pt in intersect(pieces[i].el, pieces[j].el):
                 if MIN_PIECE < ta * pieces[i].el.length() and \
@@ -352,6 +374,7 @@ class _Stretch:
                         (1 - tb) * pieces[j].el.length() > MIN_PIECE:
                     cuts.setdefault(j, []).append((tb, pt))
         self.cut_keys = set()
+        self.cut_points = [pt for cs in cuts.values() for _, pt in cs]
         for cs in cuts.values():
             for _, pt in cs:
                 kx, ky = round(pt[0] * 1e6), round(pt[1] * 1e6)
@@ -385,10 +408,28 @@ class _Stretch:
         self.cycle0 = cycle0
         self.arr = pack([p.el for p in out])
 
+    def _barriers(self):
+        """Far-side offsets of the contour's blocks and circles of radius r
+        round its two ends (an open contour's forbidden zone boundary)."""
+        r, out = self.r, []
+        far = "right" if self.left else "left"
+        for m in self.contour:
+            if m.lineno not in self.prog_of:
+                continue
+            el = _offset(m, far, r)
+            if el is not None:
+                out.append(el)
+        progs = list(self.prog_of.values())
+        if progs:
+            for p in (progs[0].start, progs[-1].end):
+                out.append(Arc(p, r, 0.0, math.pi))
+                out.append(Arc(p, r, math.pi, math.pi))
+        return out
+
     # -- 3. distance test ------------------------------------------------------------------
     def classify(self, programmed, prog_arr):
         pieces = self.pieces
-        if not self.cut_keys and not self.has_exit and \
+        if self.closed and not self.cut_keys and not self.has_exit and \
                 not any(p.role == CONNECTOR for p in pieces):
             # nothing crosses and nothing was bridged: the raw path of a
             # closed or open contour is its own offset (the gouge check on
@@ -505,12 +546,19 @@ class _Stretch:
 
         cut_keys = self.cut_keys
         starts: dict = {}
+        end_at_cut: set = set()
         if cut_keys:
-            for k, p in enumerate(pieces):
+            # pieces that start or end at a crossing (found for all at once)
+            a = self.arr
+            cp = np.array(self.cut_points)
+            cb = np.concatenate([cp, cp], axis=1)
+            ends = np.stack([a[:, X1], a[:, Y1], a[:, X1], a[:, Y1]], axis=1)
+            end_at_cut = set(box_pairs(ends, cb, 2e-6)[0].tolist())
+            begs = np.stack([a[:, X0], a[:, Y0], a[:, X0], a[:, Y0]], axis=1)
+            for k in sorted(set(box_pairs(begs, cb, 2e-6)[0].tolist())):
+                p = pieces[k]
                 if p.valid and p.role != ENTRY:
-                    kk = key(p.el.start)
-                    if kk in cut_keys:
-                        starts.setdefault(kk, []).append(k)
+                    starts.setdefault(key(p.el.start), []).append(k)
 
         def at(point):
             kx, ky = key(point)
@@ -551,11 +599,24 @@ class _Stretch:
         while True:
             end = pieces[k].el.end
             nxt = k + 1 if k + 1 < n else (c0 if closed else None)
+            if nxt is not None and nxt != attach and not used[nxt] and pieces[nxt].valid and \
+                    pieces[nxt].role != ENTRY and k not in end_at_cut:
+                if attach is None and nxt >= c0:
+                    attach = nxt
+                used[nxt] = True
+                chain.append(nxt)
+                passed.add(nxt)
+                k = nxt
+                if closed and attach != nxt and \
+                        _close(pieces[k].el.end, pieces[attach].el.start, 2e-6):
+                    self._pass_to(k, attach, passed)
+                    break
+                continue
             cands = []
             if nxt is not None and not used[nxt] and pieces[nxt].valid and \
                     (pieces[nxt].role != ENTRY or pieces[k].role == ENTRY):
                 cands.append((ahead(k, nxt), nxt))
-            for q in (at(end) if cut_keys and key(end) in cut_keys else ()):
+            for q in (at(end) if k in end_at_cut else ()):
                 if not used[q] and q != nxt and ahead(k, q) > 0:
                     cands.append((ahead(k, q), q))
             if not cands:
@@ -576,14 +637,19 @@ class _Stretch:
             if closed and attach is not None and attach != q and \
                     _close(pieces[k].el.end, pieces[attach].el.start, 2e-6):
                 # passed the pieces between here and the attach point too
-                step = k
-                while True:
-                    step = step + 1 if step + 1 < n else c0
-                    if step == attach:
-                        break
-                    passed.add(step)
+                self._pass_to(k, attach, passed)
                 break
         self._finish(chain, passed)
+
+    def _pass_to(self, k, attach, passed):
+        """Mark the pieces after k up to the attach point (cyclically) passed by."""
+        n, c0 = len(self.pieces), self.cycle0
+        step = k
+        while True:
+            step = step + 1 if step + 1 < n else c0
+            if step == attach:
+                return
+            passed.add(step)
 
     def _finish(self, chain, passed):
         pieces = self.pieces
@@ -608,14 +674,17 @@ class _Stretch:
         """Moves of the chain; consecutive parts of one raw element are merged."""
         pieces = self.pieces
         groups: list[list[Piece]] = []
-        for k in self.chain:
-            p = pieces[k]
-            g = groups[-1] if groups else None
-            if g and g[-1].raw == p.raw and abs(g[-1].t1 - p.t0) < 1e-12 and \
-                    _close(g[-1].el.end, p.el.start, 1e-9):
-                g.append(p)
-            else:
-                groups.append([p])
+        if not self.cut_keys:
+            groups = [[pieces[k]] for k in self.chain]
+        else:
+            for k in self.chain:
+                p = pieces[k]
+                g = groups[-1] if groups else None
+                if g and g[-1].raw == p.raw and abs(g[-1].t1 - p.t0) < 1e-12 and \
+                        _close(g[-1].el.end, p.el.start, 1e-9):
+                    g.append(p)
+                else:
+                    groups.append([p])
         out: list[Move] = []
         self.path, self.path_roles = [], []
         emitted = set()
@@ -634,14 +703,18 @@ class _Stretch:
                          first.src, first.el.corner)
             self.path.append(el)
             self.path_roles.append(first.role)
-            s, t = first.el.start, last.el.end
             if type(el) is Line:
-                kind = first.kind if first.kind in ("line", "rapid") else "line"
-                out.append(Move(kind, (s[0], s[1], first.z0), (t[0], t[1], last.z1), first.src,
+                (sx, sy), t = el.p0, el.p1
+                kind = first.kind if first.kind != "arc" else "line"
+                out.append(Move(kind, (sx, sy, first.z0), (t[0], t[1], last.z1), first.src,
                                 0.0 if kind == "rapid" else first.feed))
             else:
-                out.append(Move("arc", (s[0], s[1], first.z0), (t[0], t[1], last.z1), first.src,
-                                first.feed, center=el.c, cw=el.cw, plane=17))
+                sx, sy = first.el.start
+                t = last.el.end
+                out.append(Move("arc", (sx, sy, first.z0), (t[0], t[1], last.z1), first.src,
+                                first.feed, el.c, el.sweep < 0, 17))
+            if last.events is None:
+                continue
             for p in g:
                 for ev in p.events or ():
                     emitted.add(id(ev))

@@ -3,7 +3,8 @@
 
 Supported: G0 G1 G2 G3 (centre form I/J/K, radius form R, full circles in the
 centre form), G17 G18 G19, G20 G21, G90 G91, G90.1 G91.1, G40 G41 G42 (D =
-tool number) and G41.1 G42.1 (D = diameter), G54, F, N, comments ``( )`` and
+tool number; without D the tool loaded by T.. M6; D0 = radius zero) and
+G41.1 G42.1 (D = diameter), G54, F, N, T and M6, comments ``( )`` and
 ``;``, ``%`` demarcation, M2 and M30.  Anything else is an error that names
 the line and the reason, never silently ignored.
 
@@ -56,13 +57,14 @@ class Move:
 @dataclass
 class Program:
     moves: list[Move] = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)     # choices worth printing (tool units)
     ended: bool = False            # M2/M30 or closing %
     messages: list = field(default_factory=list)   # (MSG, (DEBUG, (PRINT, in order (ngc.Message)
 
 
 _WORD = re.compile(r"([A-Za-z])\s*([+-]?(?:\d+\.?\d*|\.\d+))")
 _G_SUPPORTED = {0, 1, 2, 3, 17, 18, 19, 20, 21, 40, 41, 42, 41.1, 42.1, 54, 90, 91, 90.1, 91.1}
-_M_SUPPORTED = {2, 30}
+_M_SUPPORTED = {2, 6, 30}
 _GROUPS = {
     "motion": {0, 1, 2, 3},
     "plane": {17, 18, 19},
@@ -72,7 +74,7 @@ _GROUPS = {
     "comp": {40, 41, 42, 41.1, 42.1},
     "coord": {54},
 }
-_LETTERS = set("GMXYZIJKRFND")
+_LETTERS = set("GMXYZIJKRFNDT")
 
 
 def _strip_comments(text: str, lineno: int) -> str:
@@ -126,14 +128,30 @@ def _gnum(v: float) -> float:
     return int(r) if r == int(r) else r
 
 
-def load_tool_table(text: str) -> dict[int, float]:
-    """LinuxCNC tool table lines ``T<n> P<pocket> D<diameter> ...`` -> {n: radius mm}.
+class ToolTable(dict):
+    """{tool number: radius in the table's units, or None without a diameter}.
 
-    ``;`` starts a comment.  Diameters are in the program's length units of the
-    table (mm assumed)."""
-    tools = {}
+    ``units``: "mm" or "inch" when the file says so (a comment ``; units:
+    mm`` or ``; units: inch``), else None: the diameters are then read in the
+    program's units where compensation uses them (G20 inch, G21 mm), which is
+    what LinuxCNC does when the machine units match the program's."""
+
+    units: str | None = None
+
+
+def load_tool_table(text: str) -> ToolTable:
+    """LinuxCNC tool table lines ``T<n> P<pocket> [X.. Z..] [D<diameter>] ;..``.
+
+    ``;`` starts a comment.  A tool without D is kept (radius None) and is an
+    error only if compensation uses it (LinuxCNC's stock sim.tbl has one)."""
+    tools = ToolTable()
     for lineno, raw in enumerate(text.splitlines(), start=1):
-        line = raw.split(";", 1)[0].strip()
+        line, _, comment = raw.partition(";")
+        unit = re.fullmatch(r"\s*units?\s*[:=]\s*(mm|inch|in)\s*", comment, re.IGNORECASE)
+        if unit and not line.strip():
+            tools.units = "mm" if unit.group(1).lower() == "mm" else "inch"
+            continue
+        line = line.strip()
         if not line:
             continue
         fields = {}
@@ -142,12 +160,33 @@ def load_tool_table(text: str) -> dict[int, float]:
             if not m:
                 raise GcodeError(lineno, f"tool table: cannot read {tok!r}")
             fields[m.group(1).upper()] = float(m.group(2))
-        if "T" not in fields or "D" not in fields:
-            raise GcodeError(lineno, "tool table: a tool line needs T and D")
-        if fields["D"] < 0:
+        if "T" not in fields:
+            raise GcodeError(lineno, "tool table: a tool line needs T")
+        if "D" in fields and fields["D"] < 0:
             raise GcodeError(lineno, "tool table: negative diameter")
-        tools[int(fields["T"])] = fields["D"] / 2
+        tools[int(fields["T"])] = fields["D"] / 2 if "D" in fields else None
     return tools
+
+
+def _tool_radius(tools, tnum: int, scale: float, lineno: int, notes: list) -> float:
+    """Radius in mm of tool ``tnum`` for G41/G42 (D0 and T0: radius zero)."""
+    if tnum == 0:
+        return 0.0
+    if tnum not in tools:
+        raise GcodeError(lineno, f"tool {tnum} is not in the tool table")
+    r = tools[tnum]
+    if r is None:
+        raise GcodeError(lineno, f"tool {tnum} has no diameter (D) in the tool table")
+    units = getattr(tools, "units", None)
+    if units is None:
+        units = "inch" if scale == INCH else "mm"
+        why = "the program's units at this line"
+    else:
+        why = "as the tool table states"
+    note = f"tool table diameters read in {units} ({why})"
+    if note not in notes:
+        notes.append(note)
+    return r * (INCH if units == "inch" else 1.0)
 
 
 def parse(text: str, tools: dict[int, float] | None = None,
@@ -173,6 +212,7 @@ def parse(text: str, tools: dict[int, float] | None = None,
     arc_absolute = False
     feed = 0.0
     comp, comp_r = "off", 0.0
+    prepared = loaded = None            # tool selected by T, tool in the spindle (M6)
     expanded = expand(text, source, block_delete=block_delete, search_path=search_path)
     prog.messages = expanded.messages
     # "%" opens a demarcated program; "%1234" (a Fanuc-style program number,
@@ -214,6 +254,16 @@ def parse(text: str, tools: dict[int, float] | None = None,
             if sum(1 for g in gs if g in members) > 1:
                 raise GcodeError(lineno, f"two G codes of the {name} group on one line")
         vals.pop("N", None)
+        if "T" in vals:
+            if vals["T"] < 0 or vals["T"] != int(vals["T"]):
+                raise GcodeError(lineno, "tool number T must be a whole number >= 0")
+            prepared = int(vals.pop("T"))
+        if 6 in ms:
+            if prepared is None:
+                raise GcodeError(lineno, "M6 without a tool selected by T")
+            if comp != "off":
+                raise GcodeError(lineno, "tool change with cutter compensation on (G40 first)")
+            loaded = prepared
         for g in gs:
             if g in (17, 18, 19):
                 plane = g
@@ -246,13 +296,14 @@ def parse(text: str, tools: dict[int, float] | None = None,
             if comp_g in (41, 42):
                 if radius_override is not None:
                     comp_r = radius_override
-                elif "D" not in vals:
-                    raise GcodeError(lineno, f"G{comp_g} needs a D word (tool number) or --radius")
+                elif "D" in vals:
+                    comp_r = _tool_radius(tools, int(vals["D"]), scale, lineno, prog.notes)
+                elif loaded is not None:
+                    # no D: the tool loaded by the last T.. M6 (LinuxCNC)
+                    comp_r = _tool_radius(tools, loaded, scale, lineno, prog.notes)
                 else:
-                    tnum = int(vals["D"])
-                    if tnum not in tools:
-                        raise GcodeError(lineno, f"tool {tnum} is not in the tool table")
-                    comp_r = tools[tnum]
+                    raise GcodeError(lineno, f"G{comp_g} needs a D word (tool number), a tool "
+                                             "loaded with T.. M6, or --radius")
             else:
                 if "D" not in vals:
                     raise GcodeError(lineno, f"G{comp_g} needs a D word (tool diameter)")

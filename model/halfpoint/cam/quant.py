@@ -38,6 +38,7 @@ class Quantised:
     moves_per_cmd: list[int] = field(default_factory=list)   # lattice moves each command makes
     src: list[Move] = field(default_factory=list)            # the move behind each command
     end: tuple[int, int, int] = (0, 0, 0)                     # lattice position at the end
+    corrections: int = 0                                      # correcting lines inserted
 
 
 def _minor(m: Move) -> bool:
@@ -46,6 +47,57 @@ def _minor(m: Move) -> bool:
     ex, ey = m.end[0] - m.center[0], m.end[1] - m.center[1]
     cross = sx * ey - sy * ex
     return (cross <= 0) if m.cw else (cross >= 0)
+
+
+def _place_arc(m: Move, b: float, cur):
+    """Lattice centre and centre-relative start of an arc: of the lattice
+    points around the programmed centre and start, the pair whose circle
+    stays nearest the programmed arc over the arc's own angles (the radial
+    error at angle phi is rho - R + |dc| cos(phi - psi) for a centre offset
+    dc at angle psi); the current position wins ties, so a chain that is on
+    track stays there."""
+    pcx, pcy = m.center[0] / b, m.center[1] / b
+    psx, psy = m.start[0] / b, m.start[1] / b
+    radius = math.hypot(psx - pcx, psy - pcy)
+    a0 = math.atan2(psy - pcy, psx - pcx)
+    a1 = math.atan2(m.end[1] / b - pcy, m.end[0] / b - pcx)
+    if m.start[:2] == m.end[:2]:
+        sweep = -2 * math.pi if m.cw else 2 * math.pi
+    else:
+        sweep = -((a0 - a1) % (2 * math.pi)) if m.cw else (a1 - a0) % (2 * math.pi)
+    angles = [a0 + sweep * k / 8 for k in range(9)]
+    cosines = [(math.cos(t), math.sin(t)) for t in angles]
+    best = None
+    for cx in {math.floor(pcx), math.ceil(pcx)}:
+        for cy in {math.floor(pcy), math.ceil(pcy)}:
+            dcx, dcy = cx - pcx, cy - pcy
+            for sx in {math.floor(psx), math.ceil(psx), cur[0]}:
+                for sy in {math.floor(psy), math.ceil(psy), cur[1]}:
+                    if abs(sx - psx) > 1 or abs(sy - psy) > 1 or (sx == cx and sy == cy):
+                        continue
+                    dr = math.hypot(sx - cx, sy - cy) - radius
+                    err = max(abs(dr + dcx * u + dcy * v) for u, v in cosines)
+                    key = (round(err, 9), (sx, sy) != (cur[0], cur[1]),
+                           math.hypot(sx - psx, sy - psy))
+                    if best is None or key < best[0]:
+                        best = (key, (cx, cy), (sx - cx, sy - cy))
+    if best is None:
+        raise GcodeError(m.lineno, "arc radius is below one BLU")
+    return best[1], best[2]
+
+
+def _end_point(r2: int, ex: float, ey: float):
+    """Lattice point next to the programmed end (centre-relative, in BLU)
+    nearest the lattice circle of R^2 = r2, then nearest the programmed end."""
+    best = None
+    for x in (math.floor(ex) - 1, math.floor(ex), math.ceil(ex), math.ceil(ex) + 1):
+        for y in (math.floor(ey) - 1, math.floor(ey), math.ceil(ey), math.ceil(ey) + 1):
+            if x == 0 and y == 0:
+                continue
+            key = (abs(math.sqrt(x * x + y * y) - math.sqrt(r2)) + math.hypot(x - ex, y - ey))
+            if best is None or key < best[0]:
+                best = (key, (x, y))
+    return best[1]
 
 
 def quantise(moves: list[Move], blu=(DEFAULT_BLU,) * 3, width: int = 32,
@@ -99,24 +151,34 @@ def quantise(moves: list[Move], blu=(DEFAULT_BLU,) * 3, width: int = 32,
                     q.src.append(m)
                     cur = [tx, ty, cur[2]]
                 continue
-        c = (lat(m.center[0], 0), lat(m.center[1], 1))
+        # the arc on the lattice is chosen against the programmed absolute
+        # geometry, never against where the previous arc stopped: the centre
+        # and start among the lattice points next to the programmed ones that
+        # give the circle nearest the programmed circle
+        c, (xs, ys) = _place_arc(m, bx, cur)
         if not all(fits(v, width, LATTICE_MARGIN) for v in c):
             raise GcodeError(m.lineno, f"arc centre outside the core's {width}-bit range at this BLU")
-        xs, ys = cur[0] - c[0], cur[1] - c[1]
-        if xs == 0 and ys == 0:
-            raise GcodeError(m.lineno, "arc radius is below one BLU")
+        start = (c[0] + xs, c[1] + ys)
+        if (start[0], start[1]) != (cur[0], cur[1]):
+            # a short correcting line onto the chosen start (a few BLU at most)
+            dx, dy = start[0] - cur[0], start[1] - cur[1]
+            q.cmds.append(line_head | ((dx & mask) << 64) | ((dy & mask) << 96))
+            q.moves_per_cmd.append(max(abs(dx), abs(dy)))
+            q.src.append(m)
+            q.corrections += 1
+            cur = [start[0], start[1], cur[2]]
         full = m.start[:2] == m.end[:2]          # a programmed full circle
+        r2 = xs * xs + ys * ys
         if full:
             xe, ye = xs, ys
         else:
-            xe, ye = lat(m.end[0], 0) - c[0], lat(m.end[1], 1) - c[1]
-            if (xe, ye) == (xs, ys):
-                continue        # an arc shorter than the lattice: no motion
+            ex, ey = m.end[0] / bx - c[0], m.end[1] / by - c[1]
+            xe, ye = _end_point(r2, ex, ey)
             if validate(xs, ys, xe, ye, width):
                 ang = math.atan2(m.end[1] - m.center[1], m.end[0] - m.center[0])
-                xe, ye = lattice_point_near(xs * xs + ys * ys, ang)
-                if (xe, ye) == (xs, ys):
-                    continue
+                xe, ye = lattice_point_near(r2, ang)
+            if (xe, ye) == (xs, ys):
+                continue        # an arc shorter than the lattice: no motion
         code = validate(xs, ys, xe, ye, width)
         if code:
             raise GcodeError(m.lineno, "arc cannot be put on the lattice (radius too large for the width?)")
