@@ -250,7 +250,7 @@ class _Stretch:
         xy = [m for m in self.contour
               if m.kind == "arc" or not _close(m.start[:2], m.end[:2], 1e-12)]
         start_xy = e.start[:2] if e.kind == "arc" else p0
-        self.closed = len(xy) > 1 and _close(xy[-1].end[:2], start_xy, 1e-6)
+        self.closed = len(xy) > 0 and _close(xy[-1].end[:2], start_xy, 1e-6)
         self.prog_of = {m.lineno: _programmed_element(m) for m in self.contour
                         if m.kind == "arc" or not _close(m.start[:2], m.end[:2], 1e-12)}
         first_piece = None
@@ -271,8 +271,10 @@ class _Stretch:
             prev = self.pieces[-1]
             is_first = first_piece is None
             if pending_gap:
+                # over a concave arc smaller than the tool: a straight bridge,
+                # kept or removed by the distance test like any piece
                 extra = [Piece(Line(prev.el.end, el.start, m.lineno, True), m.lineno,
-                               CONNECTOR, "line", m.feed or self.feed, prev.z1, prev.z1)]
+                               CORNER, "line", m.feed or self.feed, prev.z1, prev.z1)]
                 outside = False
             else:
                 extra, el, outside = self._corner(prev, el, m.start[:2], m.lineno,
@@ -307,8 +309,6 @@ class _Stretch:
             for p in extra:
                 p.z0 = p.z1 = last.z1
             self.pieces += extra
-            if len(self.pieces) == self.cycle0 + 1 and not extra:
-                self.closed = False
         x = self.exit_move
         if not self.closed and x is not None and x.kind != "arc" and \
                 math.dist(x.start[:2], x.end[:2]) > TOL:
