@@ -118,7 +118,9 @@ def _comp_args(p) -> None:
     p.add_argument("--tools", help="LinuxCNC tool table (T<n> P<p> D<diameter>) for G41/G42 D<n>")
     p.add_argument("--strict", action="store_true",
                    help="a contour the tool cannot follow is an error (default: skip it, warn)")
-    p.add_argument("--window", type=int, default=5, help="blocks searched for interference (default 5)")
+    p.add_argument("--window", type=int, default=5,
+                   help="accepted for compatibility and ignored: interference is searched as far "
+                        "as the tool reaches")
 
 
 def cmd_compensate(args) -> int:
@@ -127,6 +129,8 @@ def cmd_compensate(args) -> int:
     if args.window < 1:
         raise UsageError("--window must be at least 1")
     prog, comp = load_program(args.program, args.radius, args.tools, args.strict, args.window)
+    for note in prog.notes:
+        print(f"halfpoint: {args.program}: note: {note}", file=sys.stderr)
     print_messages(args.program, prog.messages)
     print_warnings(args.program, comp.warnings)
     sys.stdout.write(to_gcode(comp.moves))
@@ -149,7 +153,10 @@ def cmd_run(args) -> int:
     end = res.lattice[-1] if res.lattice else (0, 0, 0)
     print(f"final position: {', '.join(f'{v * b:.4f}' for v, b in zip(end, res.blu))} mm")
     print(f"max deviation of the lattice path from the compensated path: "
-          f"{res.max_dev_mm:.6f} mm ({res.max_dev_mm / args.blu:.3f} BLU)")
+          f"{res.max_dev_mm:.6f} mm ({res.max_dev_mm / args.blu:.3f} BLU, every lattice point "
+          f"against its own block; {res.corrections} correcting lines)")
+    for note in res.notes:
+        print(f"halfpoint: {args.program}: note: {note}", file=sys.stderr)
     zoom = None
     if args.zoom:
         try:

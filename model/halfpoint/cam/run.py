@@ -32,6 +32,8 @@ class RunResult:
     max_dev_mm: float
     blu: tuple[float, float, float]
     messages: list = field(default_factory=list)   # the program's (MSG/(DEBUG/(PRINT output
+    notes: tuple = ()                        # choices worth printing (tool table units)
+    corrections: int = 0                     # correcting lines the quantiser inserted
 
 
 def load_program(path: str, radius=None, tools_path=None, strict=False, window=5):
@@ -72,7 +74,7 @@ def run_program(path: str, execute=run_segments_model, radius=None, tools_path=N
             dev = max(dev, el.distance((p[0] * blu[0], p[1] * blu[1])))
         k += n
     return RunResult(prog.moves, comp.moves, comp.warnings, trace, dev, tuple(blu),
-                     prog.messages)
+                     prog.messages, tuple(prog.notes), q.corrections)
 
 
 def _path_points(moves: list[Move], steps=64):
