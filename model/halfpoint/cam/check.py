@@ -65,7 +65,8 @@ def self_crossings(path, tol: float = 1e-9, joint: float = 1e-6, arr=None):
         return []
     p = pack(path) if arr is None else arr
     arc = p[:, 0] == 1
-    lengths = np.where(arc, np.abs(p[:, 9]) * p[:, 7], np.hypot(p[:, 3] - p[:, 1], p[:, 4] - p[:, 2]))
+    lengths = np.where(arc, np.abs(p[:, 9]) * p[:, 7],
+                       np.hypot(p[:, 3] - p[:, 1], p[:, 4] - p[:, 2]))
     cum = np.concatenate([[0.0], np.cumsum(lengths)])
     b = boxes(p)
     i, j = box_pairs(b, b, tol)

@@ -764,7 +764,8 @@ def compensate(moves: list[Move], window: int = 5, strict: bool = False) -> Comp
         if not any(c.kind == "arc" or not _close(c.start[:2], c.end[:2], 1e-12) for c in contour) \
                 and entry.kind != "arc":
             if k < n_moves:
-                raise GcodeError(moves[k].lineno, "cutter compensation on for the lead-in move only")
+                raise GcodeError(moves[k].lineno,
+                                 "cutter compensation on for the lead-in move only")
             raise GcodeError(entry.lineno, "cutter compensation on for the lead-in move only")
         st = _Stretch(entry, contour, side, r, moves[k] if k < n_moves else None)
         st.build()
@@ -794,7 +795,8 @@ def compensate(moves: list[Move], window: int = 5, strict: bool = False) -> Comp
                                        f"(tool radius {r:g} mm)")
         crossings = check.self_crossings(body, arr=body_arr)
         if crossings:
-            lines = sorted({body[i].src for i, j in crossings} | {body[j].src for i, j in crossings})
+            lines = sorted({body[i].src for i, _ in crossings} |
+                           {body[j].src for _, j in crossings})
             raise GcodeError(lines[0], f"the compensated path crosses itself near "
                                        f"{_line_ranges(lines)}")
         present = {p.src for kk in st.chain for p in [st.pieces[kk]] if p.role == CONTOUR}

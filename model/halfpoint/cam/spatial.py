@@ -180,7 +180,8 @@ def _on_arc(px, py, cx, cy, a0, sw):
 def _point_arc(px, py, e):
     d = np.hypot(px - e[:, CX], py - e[:, CY])
     on = _on_arc(px, py, e[:, CX], e[:, CY], e[:, A0], e[:, SW])
-    ends = np.minimum(np.hypot(px - e[:, X0], py - e[:, Y0]), np.hypot(px - e[:, X1], py - e[:, Y1]))
+    ends = np.minimum(np.hypot(px - e[:, X0], py - e[:, Y0]),
+                      np.hypot(px - e[:, X1], py - e[:, Y1]))
     return np.where(on, np.abs(d - e[:, R]), ends)
 
 
@@ -194,10 +195,12 @@ def point_distance(px, py, e: np.ndarray) -> np.ndarray:
 
 
 def _seg_seg(a, b):
-    d = np.minimum(np.minimum(_point_line(a[:, X0], a[:, Y0], b[:, X0], b[:, Y0], b[:, X1], b[:, Y1]),
-                              _point_line(a[:, X1], a[:, Y1], b[:, X0], b[:, Y0], b[:, X1], b[:, Y1])),
-                   np.minimum(_point_line(b[:, X0], b[:, Y0], a[:, X0], a[:, Y0], a[:, X1], a[:, Y1]),
-                              _point_line(b[:, X1], b[:, Y1], a[:, X0], a[:, Y0], a[:, X1], a[:, Y1])))
+    sa = (a[:, X0], a[:, Y0], a[:, X1], a[:, Y1])
+    sb = (b[:, X0], b[:, Y0], b[:, X1], b[:, Y1])
+    d = np.minimum(np.minimum(_point_line(a[:, X0], a[:, Y0], *sb),
+                              _point_line(a[:, X1], a[:, Y1], *sb)),
+                   np.minimum(_point_line(b[:, X0], b[:, Y0], *sa),
+                              _point_line(b[:, X1], b[:, Y1], *sa)))
 
     def orient(px, py, qx, qy, rx, ry):
         return (qx - px) * (ry - py) - (qy - py) * (rx - px)
