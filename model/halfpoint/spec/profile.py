@@ -507,10 +507,14 @@ def peak_speed(length: int, v_entry: int, v_cruise: int, v_exit: int, accel: int
     floor = max(v_entry, v_exit)
     if v_cruise <= floor or good(v_cruise):
         return max(v_cruise, floor)
-    lo, hi = floor, v_cruise - 1
-    if not good(lo + 1):
+    if not good(floor + 1):
         return floor
-    lo += 1
+    return _largest_good(floor + 1, v_cruise - 1, good)
+
+
+def _largest_good(lo: int, hi: int, good) -> int:
+    """Largest x in [lo, hi] with ``good(x)``, for a ``good`` that holds up to some
+    point and not beyond (bisection); ``lo`` when none above it is good."""
     while lo < hi:
         mid = (lo + hi + 1) // 2
         if good(mid):
@@ -530,14 +534,7 @@ def max_exit_speed(length: int, v_entry: int, accel: int, div: int, v_limit: int
 
     if v_limit <= v_entry or good(v_limit):
         return v_limit
-    lo, hi = v_entry, v_limit - 1
-    while lo < hi:
-        mid = (lo + hi + 1) // 2
-        if good(mid):
-            lo = mid
-        else:
-            hi = mid - 1
-    return lo
+    return _largest_good(v_entry, v_limit - 1, good)
 
 
 def make_profile(length: int, v_entry: int, v_cruise: int, v_exit: int, accel: int,
