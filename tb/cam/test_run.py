@@ -96,3 +96,21 @@ def test_run_bad_program_one_line_naming_the_line(tmp_path, text, needle):
     p = hp("run", str(f))
     assert p.returncode != 0 and p.stdout == ""
     assert p.stderr.strip().count("\n") == 0 and needle in p.stderr, p.stderr
+
+
+def test_the_tool_table_beside_the_program_is_the_default(tmp_path):
+    """Without --tools or --radius, a tools.tbl beside the program is read (and said);
+    --tools names another; with neither, G41 D1 is an error naming the line."""
+    prog = tmp_path / "p.ngc"
+    prog.write_text("G21 F100\nG0 X-5\nG41 D1 G1 X0 Y0\nX10\nG40 X15\nM2\n")
+    r = hp("compensate", str(prog))
+    assert r.returncode == 3 and "line 3" in r.stderr
+    (tmp_path / "tools.tbl").write_text("T1 P1 D2.0\n")
+    r = hp("compensate", str(prog))
+    assert r.returncode == 0, r.stderr
+    assert f"note: tool table {tmp_path / 'tools.tbl'} (beside the program" in r.stderr
+    assert "Y1" in r.stdout                      # the 1 mm radius, left of +X
+    other = tmp_path / "other.tbl"
+    other.write_text("T1 P1 D4.0\n")
+    r = hp("compensate", str(prog), "--tools", str(other))
+    assert r.returncode == 0 and "Y2" in r.stdout and "beside the program" not in r.stderr

@@ -36,16 +36,29 @@ class RunResult:
     corrections: int = 0                     # correcting lines the quantiser inserted
 
 
+# the tool table used when none is named and no --radius is given
+TOOL_TABLE_BESIDE = "tools.tbl"
+
+
 def load_program(path: str, radius=None, tools_path=None, strict=False, window=5):
     with open(path, encoding="utf-8") as fh:
         text = fh.read()
     tools = {}
+    found = None
+    if tools_path is None and radius is None:
+        # no table named: the one beside the program, as a LinuxCNC configuration keeps
+        # its tool table beside its INI file
+        beside = Path(path).resolve().parent / TOOL_TABLE_BESIDE
+        if beside.is_file():
+            tools_path = found = str(beside)
     if tools_path:
         with open(tools_path, encoding="utf-8") as fh:
             tools = load_tool_table(fh.read())
     # o<name> call finds name.ngc beside the program, as LinuxCNC's SUBROUTINE_PATH would
     prog = parse(text, tools=tools, radius_override=radius, source=path,
                  search_path=(str(Path(path).resolve().parent),))
+    if found:
+        prog.notes.insert(0, f"tool table {found} (beside the program; --tools names another)")
     comp = compensate(prog.moves, window=window, strict=strict)
     return prog, comp
 
