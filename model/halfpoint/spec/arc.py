@@ -103,24 +103,12 @@ def u_is_x(q: int, cw: int) -> bool:
     return (q & 1) == cw
 
 
-def sign_x(q: int) -> int:
-    return 1 if q in (0, 3) else -1
-
-
-def sign_y(q: int) -> int:
-    return 1 if q in (0, 1) else -1
-
-
 def frame(x: int, y: int, cw: int) -> tuple[int, int, int]:
     """(q, u, v) of a non-origin point."""
     q = quadrant(x, y, cw)
     if u_is_x(q, cw):
         return q, abs(x), abs(y)
     return q, abs(y), abs(x)
-
-
-def next_quadrant(q: int, cw: int) -> int:
-    return (q - 1) % 4 if cw else (q + 1) % 4
 
 
 def before(u: int, v: int, ue: int, ve: int) -> bool:
@@ -172,7 +160,7 @@ def step(q, u, v, f, cw):
     """
     du = (f - u + 2 * v + 1 >= 0) * 1           # D2 >= 0: B or A
     dv = (f - 2 * u + v + 1 < 0) * 1            # D1 < 0: A or C
-    ux = ((q & 1) == cw) * 1                    # u is |x| (CCW I/III, CW II/IV)
+    ux = u_is_x(q, cw) * 1                      # u is |x| (CCW I/III, CW II/IV)
     sx = 1 - 2 * (((q == 1) | (q == 2)) * 1)    # sign of x in quadrant q
     sy = 1 - 2 * ((q >= 2) * 1)                 # sign of y
     dx = ux * (-sx * du) + (1 - ux) * (sx * dv)
