@@ -223,6 +223,7 @@ class ProfileInputs:
     hold: int = 0
     stop: int = 0
     override: int = OVERRIDE_ONE    # 1/128 steps, 0..128 (above 128 counts as 128)
+    abort: int = 0              # immediate stop: the edge clears everything but ``dry``
 
 
 @dataclass
@@ -365,7 +366,15 @@ class ProfileStage:
         return w
 
     def clock(self, i: ProfileInputs) -> ProfileView:
-        """One rising edge; returns the view of the clock that ended."""
+        """One rising edge; returns the view of the clock that ended.  ``abort``: the
+        edge clears the segment, speed, credit, staircase and cadence (not ``dry``;
+        the override is registered as on any edge) and pops nothing."""
+        if i.abort:
+            dry = self.dry
+            self.reset()
+            self.dry = dry
+            self.ov_q = min(i.override, OVERRIDE_ONE)
+            return ProfileView()
         w = self.view(i)
         # speed: one step of accel towards the target, same-direction steps a tick apart
         v, t = self.v, w.target
@@ -398,7 +407,10 @@ class ProfileStage:
             self.accel = i.next_profile.accel
         if w.dry_now:
             self.dry = 1
-        self.v = v
+        # no segment after this edge: nothing to pace, the speed is 0 at once (after a
+        # planned stop that is one step from the creep speed; after a dry end with
+        # the segment too short to slow down, the documented excess, flagged by dry)
+        self.v = v if self.cur is not None else 0
         self.ov_q = min(i.override, OVERRIDE_ONE)
         return w
 
