@@ -104,6 +104,8 @@ module halfpoint_arc #(
     input  wire         start_en,
     // an arc is in the run stage
     output wire         running,
+    // a validated arc waits in the pending slot (registered)
+    output wire         pending,
     // the pending arc enters the run stage at this edge
     output wire         loading,
     // the running arc makes its last move at this edge
@@ -480,6 +482,7 @@ module halfpoint_arc #(
     assign load = (validator_state_q == STATE_HOLD) && start_en && !abort_now && (!run_q || last);
 
     assign running = run_q;
+    assign pending = (validator_state_q == STATE_HOLD);
     assign loading = load;
     assign ending  = last;
     assign nx_step = {y_steps, x_steps};

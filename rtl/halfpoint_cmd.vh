@@ -16,64 +16,84 @@
 
 // command: one beat of the AXI4-Stream input, little-endian 32-bit words
 //   bits of a command
-`define HALFPOINT_CMD_BITS          256
+`define HALFPOINT_CMD_BITS                    256
 //   axes a line command can move
-`define HALFPOINT_MAX_AXES          6
+`define HALFPOINT_MAX_AXES                    6
 
 // word 0: opcode and flags
 //   opcode field
-`define HALFPOINT_CMD_OPCODE_LSB    0
-`define HALFPOINT_CMD_OPCODE_WIDTH  4
+`define HALFPOINT_CMD_OPCODE_LSB              0
+`define HALFPOINT_CMD_OPCODE_WIDTH            4
 //   straight line, every axis
-`define HALFPOINT_OP_LINE           4'd1
+`define HALFPOINT_OP_LINE                     4'd1
 //   arc in the XY plane, clockwise (G2)
-`define HALFPOINT_OP_ARC_CW         4'd2
+`define HALFPOINT_OP_ARC_CW                   4'd2
 //   arc in the XY plane, counter-clockwise (G3)
-`define HALFPOINT_OP_ARC_CCW        4'd3
+`define HALFPOINT_OP_ARC_CCW                  4'd3
 //   CONT: more segments of this program follow (for the underrun flag)
-`define HALFPOINT_FLAG_CONT_BIT     8
-
-// feed rate, unsigned, BLU per clock x 2^RATE_FRAC_BITS
-`define HALFPOINT_CMD_RATE_LSB      32
-`define HALFPOINT_CMD_RATE_WIDTH    32
-`define HALFPOINT_RATE_FRAC_BITS    24
+`define HALFPOINT_FLAG_CONT_BIT               8
+//   velocity profile of the motion commands that follow
+`define HALFPOINT_OP_PROFILE                  4'd4
 
 // line: signed delta of axis k in bits CMD_DELTA_LSB + k * CMD_DELTA_STRIDE +: CMD_DELTA_WIDTH
-`define HALFPOINT_CMD_DELTA_LSB     64
-`define HALFPOINT_CMD_DELTA_STRIDE  32
-`define HALFPOINT_CMD_DELTA_WIDTH   32
+`define HALFPOINT_CMD_DELTA_LSB               64
+`define HALFPOINT_CMD_DELTA_STRIDE            32
+`define HALFPOINT_CMD_DELTA_WIDTH             32
 
 // arc: I, J = centre minus the current position; X, Y = end minus it (signed)
-`define HALFPOINT_CMD_ARC_I_LSB     64
-`define HALFPOINT_CMD_ARC_I_WIDTH   32
-`define HALFPOINT_CMD_ARC_J_LSB     96
-`define HALFPOINT_CMD_ARC_J_WIDTH   32
-`define HALFPOINT_CMD_ARC_X_LSB     128
-`define HALFPOINT_CMD_ARC_X_WIDTH   32
-`define HALFPOINT_CMD_ARC_Y_LSB     160
-`define HALFPOINT_CMD_ARC_Y_WIDTH   32
+`define HALFPOINT_CMD_ARC_I_LSB               64
+`define HALFPOINT_CMD_ARC_I_WIDTH             32
+`define HALFPOINT_CMD_ARC_J_LSB               96
+`define HALFPOINT_CMD_ARC_J_WIDTH             32
+`define HALFPOINT_CMD_ARC_X_LSB               128
+`define HALFPOINT_CMD_ARC_X_WIDTH             32
+`define HALFPOINT_CMD_ARC_Y_LSB               160
+`define HALFPOINT_CMD_ARC_Y_WIDTH             32
+
+// profile fields (unsigned; spec/profile.py gives their fixed point)
+`define HALFPOINT_CMD_PROFILE_V_CRUISE_LSB    32
+`define HALFPOINT_CMD_PROFILE_V_CRUISE_WIDTH  32
+`define HALFPOINT_CMD_PROFILE_V_EXIT_LSB      64
+`define HALFPOINT_CMD_PROFILE_V_EXIT_WIDTH    32
+`define HALFPOINT_CMD_PROFILE_ACCEL_LSB       96
+`define HALFPOINT_CMD_PROFILE_ACCEL_WIDTH     34
+`define HALFPOINT_CMD_PROFILE_LINE_COST_LSB   130
+`define HALFPOINT_CMD_PROFILE_LINE_COST_WIDTH 18
+`define HALFPOINT_CMD_PROFILE_D_EXIT_LSB      148
+`define HALFPOINT_CMD_PROFILE_D_EXIT_WIDTH    54
+`define HALFPOINT_CMD_PROFILE_D_STOP_LSB      202
+`define HALFPOINT_CMD_PROFILE_D_STOP_WIDTH    54
+//   d_exit, d_stop < 2^(W + PROFILE_DISTANCE_EXTRA) in a core of width W
+`define HALFPOINT_PROFILE_DISTANCE_EXTRA      19
 
 // reserved bits (must be zero, else the command is rejected, E_OPCODE)
 //   of a line command (deltas of axes the core does not have are checked too)
 `define HALFPOINT_CMD_RESERVED_LINE \
-    256'h00000000000000000000000000000000000000000000000000000000fffffef0
+    256'h000000000000000000000000000000000000000000000000fffffffffffffef0
 //   of an arc command
 `define HALFPOINT_CMD_RESERVED_ARC \
-    256'hffffffffffffffff0000000000000000000000000000000000000000fffffef0
+    256'hffffffffffffffff00000000000000000000000000000000fffffffffffffef0
+//   of a profile command
+`define HALFPOINT_CMD_RESERVED_PROFILE \
+    256'h00000000000000000000000000000000000000000000000000000000fffffff0
 
 // error codes of the core (err_code output)
-`define HALFPOINT_ERR_CODE_BITS     4
+`define HALFPOINT_ERR_CODE_BITS               4
 //   ok
-`define HALFPOINT_E_NONE            4'd0
+`define HALFPOINT_E_NONE                      4'd0
 //   unknown opcode or reserved bits set
-`define HALFPOINT_E_OPCODE          4'd1
+`define HALFPOINT_E_OPCODE                    4'd1
 //   coordinate does not fit the core's width
-`define HALFPOINT_E_FIELD           4'd2
+`define HALFPOINT_E_FIELD                     4'd2
 //   arc radius is zero
-`define HALFPOINT_E_ARC_RADIUS      4'd3
+`define HALFPOINT_E_ARC_RADIUS                4'd3
 //   arc circle does not fit the coordinate width
-`define HALFPOINT_E_ARC_RANGE       4'd4
+`define HALFPOINT_E_ARC_RANGE                 4'd4
 //   arc end point is off the circle
-`define HALFPOINT_E_ARC_END         4'd5
+`define HALFPOINT_E_ARC_END                   4'd5
+//   no profile in force for this motion, or one of the other kind
+`define HALFPOINT_E_PROFILE                   4'd6
+//   profile fields break the rules (v_exit, accel, d_stop, d_exit)
+`define HALFPOINT_E_PROFILE_FIELD             4'd7
 
 `endif  // HALFPOINT_CMD_VH

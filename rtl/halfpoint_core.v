@@ -10,27 +10,42 @@
 // README), so no field position is written here.  They wait in a queue of
 // DEPTH entries; a dispatcher hands them in program order to the arc unit (XY
 // plane, axes 0 and 1) or the line unit (all NA axes), with at most one
-// command in flight (handed over, not yet started), so that a unit's pending
-// segment starts at the edge of the previous segment's last move: no idle
-// clock at a boundary when the next segment has been validated in time.
+// command in flight (handed over, not yet started).  A PROFILE command sets the
+// velocity profile in force for the motion commands that follow it.
 //
-// The running unit moves when `go`:
-//   * the feed credit covers the move's cost (2^24 for an axis move or a line
-//     iteration, round(sqrt(2) * 2^24) for a diagonal arc move), the credit
-//     growing by rate * k per clock, k in {0, 1, 2} from the feed override
-//     (percent, 0..200; 0 holds the motion; registered, so a change acts one
-//     clock later), capped at 2^26;
-//   * and every axis the move steps has its STEP/DIR generator ready for the
-//     move's direction (otherwise the move waits: no step dropped or merged).
-// Positions count every step.  Rejected commands (bad opcode or reserved
-// bits, field out of range, arc validator rejects) make no motion, set
-// err_code and pulse err; the rest of the program runs.  A line whose deltas
-// are all zero is a no-op.  underrun is set (sticky until reset) when a
-// segment flagged CONT ended and no segment started at that edge.
-// abort_now (level): at each edge while it is high no move is made, the queue,
-// the command in flight and both units' segments are dropped and the feed
-// credit is cleared; tready is low.  A STEP pulse already started completes
-// with its full timing; positions keep every step made.
+// The interpolators are decoupled from the pacing (issue 13): the running unit
+// makes one move per clock into a move queue of MOVE_DEPTH entries whenever it
+// has room (its count before the edge: no path from the pacing back to the
+// interpolators), each entry the axes stepped, their directions, the move's
+// cost class (axis move, diagonal arc move, line iteration) and whether it is
+// its segment's last.  A unit's pending segment starts at the edge of the
+// other's last move (no idle clock at a boundary when it was validated in time).
+// A motion command is handed to its unit only while the profile queue
+// (PROFILE_DEPTH entries) has room; its profile and CONT flag enter that queue
+// once the unit has validated it, long before its first move, so that the
+// profile stage knows the next segment is coming.  The motion-profile stage
+// (halfpoint_profile; model/halfpoint/spec/profile.py) pops the head move at
+// the planned path speed, when every axis the move steps has its STEP/DIR
+// generator ready for its direction; it takes the next profile at the edge of
+// the current segment's last move.
+//
+// hold (level) decelerates along the path to rest and waits; releasing it
+// accelerates back to the plan.  stop (level) decelerates to rest, then every
+// edge at rest while it is high drops the queue, the command in flight, both
+// units' segments, the move and profile queues and the profile in force (a
+// controlled stop; tready is low meanwhile).  feed_override (1/128, above 128
+// acts as 128) scales the cruise speed, its changes ramping at the segment's
+// acceleration.  abort_now (level): at each edge while it is high no move is
+// made and everything not yet moved is dropped at once; tready is low.  A STEP
+// pulse already started completes with its full timing; positions keep every
+// step made.
+//
+// Rejected commands (bad opcode or reserved bits, field out of range, no
+// profile or a bad one, arc validator rejects) make no motion, set err_code
+// and pulse err; the rest of the program runs.  A line whose deltas are all
+// zero is a no-op.  underrun is set (sticky until reset) when a segment
+// flagged CONT made its last move and no next profile was taken at that edge;
+// dry (sticky) when the profile stage had to decelerate for a dry queue.
 //
 // Parameters: see the comment above each (an illegal value stops
 // elaboration).
@@ -47,7 +62,14 @@ module halfpoint_core #(
     // command queue depth in commands, a power of two, 2..256
     parameter integer DEPTH = 16,
     // width of the STEP/DIR timing settings in bits, 2..16
-    parameter integer TW    = 16
+    parameter integer TW    = 16,
+    // speed-step tick of the profile stage: 2^DIV clocks, 1..24 (the host's
+    // profile.choose_div of the clock frequency: 12 at 50 MHz)
+    parameter integer DIV   = 12,
+    // move queue depth in moves, 2..16
+    parameter integer MOVE_DEPTH    = 4,
+    // profile queue depth in segments, 1..8
+    parameter integer PROFILE_DEPTH = 2
 ) (
     input  wire                           clk,
     input  wire                           rst,
@@ -72,8 +94,12 @@ module halfpoint_core #(
     /*
      * Motion control
      */
-    // feed override in percent; values above 200 act as 200
+    // feed override in 1/128 (128 = 100 %); values above 128 act as 128
     input  wire [7:0]                     feed_override,
+    // feed hold: decelerate to rest and wait (level)
+    input  wire                           hold,
+    // controlled stop: decelerate to rest, then drop everything not yet moved (level)
+    input  wire                           stop,
     // stop now: no move, queue and pending segments dropped (level)
     input  wire                           abort_now,
 
@@ -96,8 +122,12 @@ module halfpoint_core #(
     output reg                            err,
     // code of the last rejected command (HALFPOINT_E_* of halfpoint_cmd.vh)
     output reg  [`HALFPOINT_ERR_CODE_BITS-1:0] err_code,
-    // a CONT segment ended and no segment started at that edge (sticky)
-    output reg                            underrun
+    // a CONT segment ended and no segment was taken at that edge (sticky)
+    output reg                            underrun,
+    // the profile stage decelerated for a dry queue (sticky)
+    output wire                           dry,
+    // path speed, BLU per clock x 2^38 (the profile stage's speed register)
+    output wire [37:0]                    speed
 );
 
     generate
@@ -113,13 +143,23 @@ module halfpoint_core #(
         if (TW < 2 || TW > 16) begin : g_bad_tw
             halfpoint_core_illegal_parameter_TW_must_be_2_to_16 u_bad ();
         end
+        if (DIV < 1 || DIV > 24) begin : g_bad_div
+            halfpoint_core_illegal_parameter_DIV_must_be_1_to_24 u_bad ();
+        end
+        if (MOVE_DEPTH < 2 || MOVE_DEPTH > 16) begin : g_bad_move_depth
+            halfpoint_core_illegal_parameter_MOVE_DEPTH_must_be_2_to_16 u_bad ();
+        end
+        if (PROFILE_DEPTH < 1 || PROFILE_DEPTH > 8) begin : g_bad_profile_depth
+            halfpoint_core_illegal_parameter_PROFILE_DEPTH_must_be_1_to_8 u_bad ();
+        end
     endgenerate
 
     localparam integer INDEX_W = $clog2(DEPTH);         // queue index width
     localparam integer CODE_W = `HALFPOINT_ERR_CODE_BITS;
-    localparam [34:0] COST_AXIS = 35'd16777216;     // 2^24
-    localparam [34:0] COST_DIAGONAL = 35'd23726566; // round(sqrt(2) * 2^24)
-    localparam [34:0] CREDIT_CAP = 35'd67108864;    // 2^26
+    // profile fields: distances are DW bits; a profile is PROFILE_W bits,
+    // {d_stop, d_exit, line_cost[17:0], accel[33:0], v_exit[31:0], v_cruise[31:0]}
+    localparam integer DW = W + `HALFPOINT_PROFILE_DISTANCE_EXTRA;
+    localparam integer PROFILE_W = 116 + 2 * DW;
 
     // ------------------------------------------------------------------
     // Decode at the queue's input
@@ -132,7 +172,6 @@ module halfpoint_core #(
     wire [`HALFPOINT_CMD_OPCODE_WIDTH-1:0] opcode =
         cmd[`HALFPOINT_CMD_OPCODE_LSB +: `HALFPOINT_CMD_OPCODE_WIDTH];
     wire        cmd_cont = cmd[`HALFPOINT_FLAG_CONT_BIT];
-    wire [31:0] cmd_rate = cmd[`HALFPOINT_CMD_RATE_LSB +: `HALFPOINT_CMD_RATE_WIDTH];
 
     // does a 33-bit signed value fit W bits?
     function fits;
@@ -186,28 +225,60 @@ module halfpoint_core #(
     wire        arc_fits = fits(arc_i) && fits(arc_j) && fits(arc_x) && fits(arc_y) &&
                            fits(arc_xs) && fits(arc_ys) && fits(arc_xe) && fits(arc_ye);
 
-    wire is_line = (opcode == `HALFPOINT_OP_LINE);
-    wire is_arc_cw = (opcode == `HALFPOINT_OP_ARC_CW);
-    wire is_arc  = is_arc_cw || (opcode == `HALFPOINT_OP_ARC_CCW);
+    // profile fields and their rules (else E_PROFILE_FIELD)
+    wire [31:0] profile_v_cruise = cmd[`HALFPOINT_CMD_PROFILE_V_CRUISE_LSB +:
+                                       `HALFPOINT_CMD_PROFILE_V_CRUISE_WIDTH];
+    wire [31:0] profile_v_exit = cmd[`HALFPOINT_CMD_PROFILE_V_EXIT_LSB +:
+                                     `HALFPOINT_CMD_PROFILE_V_EXIT_WIDTH];
+    wire [33:0] profile_accel = cmd[`HALFPOINT_CMD_PROFILE_ACCEL_LSB +:
+                                    `HALFPOINT_CMD_PROFILE_ACCEL_WIDTH];
+    wire [17:0] profile_line_cost = cmd[`HALFPOINT_CMD_PROFILE_LINE_COST_LSB +:
+                                        `HALFPOINT_CMD_PROFILE_LINE_COST_WIDTH];
+    wire [`HALFPOINT_CMD_PROFILE_D_EXIT_WIDTH-1:0] profile_d_exit_field =
+        cmd[`HALFPOINT_CMD_PROFILE_D_EXIT_LSB +: `HALFPOINT_CMD_PROFILE_D_EXIT_WIDTH];
+    wire [`HALFPOINT_CMD_PROFILE_D_STOP_WIDTH-1:0] profile_d_stop_field =
+        cmd[`HALFPOINT_CMD_PROFILE_D_STOP_LSB +: `HALFPOINT_CMD_PROFILE_D_STOP_WIDTH];
+    wire [DW-1:0] profile_d_exit = profile_d_exit_field[DW-1:0];
+    wire [DW-1:0] profile_d_stop = profile_d_stop_field[DW-1:0];
+    // d_exit < 2^DW; then d_stop <= d_exit < 2^DW follows from the compare of
+    // the whole fields
+    wire          profile_d_exit_fits = (profile_d_exit_field >> DW) == 0;
+    wire          profile_rules_ok = (profile_accel != 34'd0) &&
+                                     (profile_v_exit <= profile_v_cruise) &&
+                                     (profile_d_stop_field <= profile_d_exit_field) &&
+                                     profile_d_exit_fits;
+
+    wire is_line    = (opcode == `HALFPOINT_OP_LINE);
+    wire is_arc_cw  = (opcode == `HALFPOINT_OP_ARC_CW);
+    wire is_arc     = is_arc_cw || (opcode == `HALFPOINT_OP_ARC_CCW);
+    wire is_profile = (opcode == `HALFPOINT_OP_PROFILE);
     wire line_reserved = ((cmd & `HALFPOINT_CMD_RESERVED_LINE) != {`HALFPOINT_CMD_BITS{1'b0}}) ||
                          line_reserved_set;
     wire arc_reserved  = ((cmd & `HALFPOINT_CMD_RESERVED_ARC) != {`HALFPOINT_CMD_BITS{1'b0}});
-    wire bad_opcode = !(is_line || is_arc) || (is_line && line_reserved) ||
-                      (is_arc && arc_reserved);
+    wire profile_reserved =
+        ((cmd & `HALFPOINT_CMD_RESERVED_PROFILE) != {`HALFPOINT_CMD_BITS{1'b0}});
+    wire bad_opcode = !(is_line || is_arc || is_profile) || (is_line && line_reserved) ||
+                      (is_arc && arc_reserved) || (is_profile && profile_reserved);
     wire bad_fit = !bad_opcode && ((is_line && !line_fits) || (is_arc && !arc_fits));
+    wire bad_profile = !bad_opcode && is_profile && !profile_rules_ok;
     wire is_nop  = !bad_opcode && !bad_fit && is_line && line_zero;
 
-    // queue entry: {payload, rate, flags}; payload = line deltas, or the arc's
-    // start and end relative to the centre {ye, xe, ys, xs}
-    localparam integer PAYLOAD_W = (NA * W > 4 * W) ? NA * W : 4 * W;
-    localparam integer ENTRY_W   = PAYLOAD_W + 40;
+    // queue entry: {payload, flags}; payload = line deltas, the arc's start and
+    // end relative to the centre {ye, xe, ys, xs}, or a profile
+    localparam integer MOTION_W  = (NA * W > 4 * W) ? NA * W : 4 * W;
+    localparam integer PAYLOAD_W = (MOTION_W > PROFILE_W) ? MOTION_W : PROFILE_W;
+    localparam integer FLAGS_W   = 9;
+    localparam integer ENTRY_W   = PAYLOAD_W + FLAGS_W;
+    wire [PROFILE_W-1:0] in_profile = {profile_d_stop, profile_d_exit, profile_line_cost,
+                                       profile_accel, profile_v_exit, profile_v_cruise};
     wire [PAYLOAD_W-1:0] in_payload =
-        is_arc ? {{(PAYLOAD_W-4*W){1'b0}}, arc_ye[W-1:0], arc_xe[W-1:0], arc_ys[W-1:0],
-                  arc_xs[W-1:0]}
-               : {{(PAYLOAD_W-NA*W){1'b0}}, line_delta};
-    wire [7:0]     in_flags = {1'b0, is_nop, bad_fit, bad_opcode, cmd_cont, is_line, is_arc_cw,
-                               is_arc};
-    wire [ENTRY_W-1:0] in_entry = {in_payload, cmd_rate, in_flags};
+        is_profile ? {{(PAYLOAD_W-PROFILE_W){1'b0}}, in_profile}
+        : is_arc ? {{(PAYLOAD_W-4*W){1'b0}}, arc_ye[W-1:0], arc_xe[W-1:0], arc_ys[W-1:0],
+                    arc_xs[W-1:0]}
+        : {{(PAYLOAD_W-NA*W){1'b0}}, line_delta};
+    wire [FLAGS_W-1:0] in_flags = {bad_profile, is_profile, is_nop, bad_fit, bad_opcode,
+                                   cmd_cont, is_line, is_arc_cw, is_arc};
+    wire [ENTRY_W-1:0] in_entry = {in_payload, in_flags};
 
     // ------------------------------------------------------------------
     // Queue
@@ -217,18 +288,20 @@ module halfpoint_core #(
     reg  [INDEX_W:0]   count_q;
     wire               pop;
     wire               push = s_axis_tvalid && s_axis_tready;
+    wire               flush;      // abort_now, or stop at rest (the profile stage)
     localparam [INDEX_W:0]   QUEUE_FULL = {1'b1, {INDEX_W{1'b0}}};     // DEPTH
     localparam [INDEX_W-1:0] INDEX_ONE = {{(INDEX_W-1){1'b0}}, 1'b1};
     localparam [INDEX_W:0]   COUNT_ONE = {{INDEX_W{1'b0}}, 1'b1};
+    wire               stage_rest;  // the profile stage's speed is 0
 
-    assign s_axis_tready = (count_q != QUEUE_FULL) && !abort_now;
+    assign s_axis_tready = (count_q != QUEUE_FULL) && !abort_now && !(stop && stage_rest);
     assign queue_level   = count_q;
 
     always @(posedge clk) begin
         if (push) queue_mem[write_index_q] <= in_entry;
     end
     always @(posedge clk) begin
-        if (rst || abort_now) begin
+        if (rst || flush) begin
             write_index_q <= {INDEX_W{1'b0}};
             read_index_q <= {INDEX_W{1'b0}};
             count_q <= {(INDEX_W+1){1'b0}};
@@ -249,23 +322,36 @@ module halfpoint_core #(
     wire                 head_bad_opcode = head[4];
     wire                 head_bad_fit = head[5];
     wire                 head_nop     = head[6];
-    wire [31:0]          head_rate    = head[39:8];
-    wire [PAYLOAD_W-1:0] head_payload = head[ENTRY_W-1:40];
-    wire                 unused_head  = head[7];
+    wire                 head_profile = head[7];
+    wire                 head_bad_profile = head[8];
+    wire [PAYLOAD_W-1:0] head_payload = head[ENTRY_W-1:FLAGS_W];
 
     // ------------------------------------------------------------------
     // Dispatcher
     // ------------------------------------------------------------------
-    reg         in_flight_q;
-    wire        head_ok = (count_q != {(INDEX_W+1){1'b0}}) && !in_flight_q && !abort_now;
-    wire        head_bad = head_bad_opcode || head_bad_fit;
-    wire        arc_s_valid  = head_ok && head_arc && !head_bad;
-    wire        line_s_valid = head_ok && head_line && !head_bad && !head_nop;
+    // profile_q: the profile in force (profile_valid_q), profile_arc_q = its
+    // line cost is 0 (an arc's profile)
+    reg                  in_flight_q;
+    reg  [PROFILE_W-1:0] profile_q;
+    reg                  profile_valid_q, profile_arc_q;
+    wire        head_ok = (count_q != {(INDEX_W+1){1'b0}}) && !in_flight_q && !flush;
+    wire        head_bad = head_bad_opcode || head_bad_fit || head_bad_profile;
+    wire        head_motion = (head_arc || (head_line && !head_nop)) && !head_bad;
+    wire        profile_mismatch = !profile_valid_q || (head_arc != profile_arc_q);
+    wire        profile_load = head_ok && head_profile && !head_bad;
+    wire        no_profile = head_ok && head_motion && profile_mismatch;
+    wire        profile_room;    // the profile queue has room (count before the edge)
+    // a motion command is handed over only while the profile queue has room
+    wire        arc_s_valid  = head_ok && head_motion && head_arc && !profile_mismatch &&
+                               profile_room;
+    wire        line_s_valid = head_ok && head_motion && head_line && !profile_mismatch &&
+                               profile_room;
     wire        arc_s_ready, line_s_ready;
     wire        arc_take  = arc_s_valid && arc_s_ready;
     wire        line_take = line_s_valid && line_s_ready;
-    wire        dispatch_error = head_ok && head_bad;
-    assign pop = dispatch_error || (head_ok && head_nop) || arc_take || line_take;
+    wire        dispatch_error = head_ok && (head_bad || no_profile);
+    assign pop = dispatch_error || (head_ok && (head_nop || profile_load)) || arc_take ||
+                 line_take;
 
     // ------------------------------------------------------------------
     // Units
@@ -275,7 +361,8 @@ module halfpoint_core #(
     wire          line_run, line_loading, line_ending, line_busy, line_reject;
     wire [NA-1:0] line_next_step, line_next_dir;
     wire [1:0]    line_error;
-    wire          go;
+    wire          move_room;       // the move queue has room (count before the edge)
+    wire          arc_pending, line_pending;
 
     wire          unused_arc_move, unused_arc_step_x, unused_arc_step_y;
     wire          unused_arc_dir_x, unused_arc_dir_y;
@@ -289,7 +376,7 @@ module halfpoint_core #(
     ) u_arc (
         .clk       (clk),
         .rst       (rst),
-        .en        (go && arc_run),
+        .en        (move_room && arc_run),
         .s_valid   (arc_s_valid),
         .s_ready   (arc_s_ready),
         .s_cw      (head_cw),
@@ -309,9 +396,10 @@ module halfpoint_core #(
         .done      (unused_arc_done),
         .reject    (arc_reject),
         .err_code  (arc_error),
-        .abort_now (abort_now),
+        .abort_now (flush),
         .start_en  (!line_run || line_ending),
         .running   (arc_run),
+        .pending   (arc_pending),
         .loading   (arc_loading),
         .ending    (arc_ending),
         .nx_step   (arc_next_step),
@@ -325,7 +413,7 @@ module halfpoint_core #(
     ) u_line (
         .clk       (clk),
         .rst       (rst),
-        .en        (go && line_run),
+        .en        (move_room && line_run),
         .s_valid   (line_s_valid),
         .s_ready   (line_s_ready),
         .s_delta   (head_payload[NA*W-1:0]),
@@ -336,9 +424,10 @@ module halfpoint_core #(
         .done      (unused_line_done),
         .reject    (line_reject),
         .err_code  (line_error),
-        .abort_now (abort_now),
+        .abort_now (flush),
         .start_en  (!arc_run || arc_ending),
         .running   (line_run),
+        .pending   (line_pending),
         .loading   (line_loading),
         .ending    (line_ending),
         .nx_step   (line_next_step),
@@ -350,113 +439,195 @@ module halfpoint_core #(
                        unused_line_done, unused_arc_x, unused_arc_y, unused_arc_f,
                        unused_line_step, unused_line_dir, line_error};
 
-    // rate and CONT flag handed over with a command (pending in the unit),
-    // and those of the running segment
-    reg [31:0] arc_rate_pend_q, line_rate_pend_q, arc_rate_run_q, line_rate_run_q;
-    reg        arc_cont_pend_q, line_cont_pend_q, arc_cont_run_q, line_cont_run_q;
+    // CONT of the command in flight; accepted_q: its profile entered the
+    // profile queue, which it does on the first clock the unit holds it
+    // validated in its pending slot (only the command in flight can be there)
+    reg  pend_cont_q;
+    reg  accepted_q;
+    wire accept = (arc_pending || line_pending) && !accepted_q;
 
     always @(posedge clk) begin
-        if (rst || abort_now) begin
+        if (rst || flush) begin
             in_flight_q <= 1'b0;
-            arc_rate_run_q <= 32'd0;
-            line_rate_run_q <= 32'd0;
-            arc_cont_run_q <= 1'b0;
-            line_cont_run_q <= 1'b0;
+            profile_valid_q <= 1'b0;
+            accepted_q <= 1'b0;
         end else begin
+            if (arc_loading || line_loading) begin
+                accepted_q <= 1'b0;
+            end else if (accept) begin
+                accepted_q <= 1'b1;
+            end
             if (arc_take || line_take) begin
                 in_flight_q <= 1'b1;
             end else if (arc_loading || line_loading || arc_reject || line_reject) begin
                 in_flight_q <= 1'b0;
             end
-            if (arc_loading) begin
-                arc_rate_run_q <= arc_rate_pend_q;
-                arc_cont_run_q <= arc_cont_pend_q;
-            end
-            if (line_loading) begin
-                line_rate_run_q <= line_rate_pend_q;
-                line_cont_run_q <= line_cont_pend_q;
+            if (profile_load) begin
+                profile_valid_q <= 1'b1;
+            end else if (head_ok && head_bad_profile) begin
+                profile_valid_q <= 1'b0;
             end
         end
-        if (arc_take) begin
-            arc_rate_pend_q <= head_rate;
-            arc_cont_pend_q <= head_cont;
+        if (profile_load) begin
+            profile_q <= head_payload[PROFILE_W-1:0];
+            profile_arc_q <= (head_payload[115:98] == 18'd0);
         end
-        if (line_take) begin
-            line_rate_pend_q <= head_rate;
-            line_cont_pend_q <= head_cont;
+        if (arc_take || line_take) begin
+            pend_cont_q <= head_cont;
         end
     end
 
     // ------------------------------------------------------------------
-    // go: step/dir readiness and feed credit
+    // Move queue: {last, class[1:0], dir[NA-1:0], step[NA-1:0]}
     // ------------------------------------------------------------------
-    wire [NA-1:0] next_step = arc_run ? {{(NA-2){1'b0}}, arc_next_step}
-                            : line_run ? line_next_step : {NA{1'b0}};
-    wire [NA-1:0] next_dir  = arc_run ? {{(NA-2){1'b0}}, arc_next_dir} : line_next_dir;
-    wire [NA-1:0] ready_pos, ready_neg, stepgen_busy;
-    wire          steps_ready = &(~next_step | (next_dir & ready_pos) | (~next_dir & ready_neg));
+    localparam integer MOVE_W = 2 * NA + 3;
+    localparam integer MOVE_INDEX_W = (MOVE_DEPTH > 1) ? $clog2(MOVE_DEPTH) : 1;
+    localparam [MOVE_INDEX_W:0] MOVE_FULL = MOVE_DEPTH[MOVE_INDEX_W:0];
+    localparam [MOVE_INDEX_W:0] MOVE_COUNT_ONE = {{MOVE_INDEX_W{1'b0}}, 1'b1};
+    localparam [MOVE_INDEX_W-1:0] MOVE_LAST_INDEX = MOVE_DEPTH[MOVE_INDEX_W-1:0] - 1'b1;
 
-    reg  [34:0]   credit_q;
-    // override accumulator a (0..99, the model's ov_acc) kept as the two
-    // thresholds 100 - a and 200 - a, so that the rate factor k needs
-    // compares, not an add; the override input is registered (override_q,
-    // clamped to 200) and k for the next clock is computed a clock ahead
-    // (factor_q = k(thresholds, override_q)), so that the credit adder
-    // starts from a register
-    reg  [8:0]    threshold1_q, threshold2_q;
-    reg  [7:0]    override_q;
-    reg  [1:0]    factor_q;
-    wire          diagonal = arc_run && arc_next_diagonal;
-    wire          credit_axis_ok = (credit_q >= COST_AXIS);
-    wire          credit_diagonal_ok = (credit_q >= COST_DIAGONAL);
-    assign go = (arc_run || line_run) && steps_ready &&
-                (diagonal ? credit_diagonal_ok : credit_axis_ok) && !abort_now;
+    reg  [MOVE_W-1:0]       move_mem [0:MOVE_DEPTH-1];
+    reg  [MOVE_INDEX_W-1:0] move_write_q, move_read_q;
+    reg  [MOVE_INDEX_W:0]   move_count_q;
+    wire                    stage_pop;
+    assign move_room = (move_count_q != MOVE_FULL);
 
-    wire [7:0]  override_n = (feed_override > 8'd200) ? 8'd200 : feed_override;
-    wire [8:0]  override_back = (factor_q == 2'd2) ? 9'd200 : (factor_q == 2'd1) ? 9'd100 : 9'd0;
-    wire [8:0]  threshold1_sum = threshold1_q - {1'b0, override_q} + override_back;
-    wire [8:0]  threshold2_sum = threshold2_q - {1'b0, override_q} + override_back;
-    // thresholds of the next clock: unchanged across an abort edge
-    wire [8:0]  threshold1_n = abort_now ? threshold1_q : threshold1_sum;
-    wire [8:0]  threshold2_n = abort_now ? threshold2_q : threshold2_sum;
-    wire [1:0]  factor_n = ({1'b0, override_n} >= threshold2_n) ? 2'd2
-                         : ({1'b0, override_n} >= threshold1_n) ? 2'd1 : 2'd0;
-    wire [31:0] rate = arc_run ? arc_rate_run_q : line_run ? line_rate_run_q : 32'd0;
-    wire [34:0] credit_add = (factor_q == 2'd2) ? {2'b00, rate, 1'b0}
-                           : (factor_q == 2'd1) ? {3'b000, rate} : 35'd0;
-    // credit + credit_add - (go ? cost : 0), as two sums in parallel so that
-    // the late `go` only selects: the cost is taken off the credit while the
-    // override settles credit_add
-    wire [34:0] credit_less_cost = credit_q - (diagonal ? COST_DIAGONAL : COST_AXIS);
-    wire [34:0] credit_if_go     = credit_less_cost + credit_add;
-    wire [34:0] credit_if_hold   = credit_q + credit_add;
-    // value > CREDIT_CAP (= 2^26) for a non-negative value, as a LUT tree
-    function over_cap;
-        input [34:0] value;
+    wire          produce = move_room && (arc_run || line_run);
+    wire [NA-1:0] produce_step = arc_run ? {{(NA-2){1'b0}}, arc_next_step} : line_next_step;
+    wire [NA-1:0] produce_dir  = arc_run ? {{(NA-2){1'b0}}, arc_next_dir} : line_next_dir;
+    // cost class: 0 axis move, 1 diagonal arc move, 2 line iteration
+    wire [1:0]    produce_class = arc_run ? {1'b0, arc_next_diagonal} : 2'd2;
+    wire          produce_last = arc_run ? arc_ending : line_ending;
+    wire [MOVE_W-1:0] produce_entry = {produce_last, produce_class, produce_dir, produce_step};
+
+    function [MOVE_INDEX_W-1:0] move_next;
+        input [MOVE_INDEX_W-1:0] index;
         begin
-            over_cap = (|value[34:27]) || (value[26] && (|value[25:0]));
+            move_next = (index == MOVE_LAST_INDEX) ? {MOVE_INDEX_W{1'b0}}
+                                                   : index + {{(MOVE_INDEX_W-1){1'b0}}, 1'b1};
         end
     endfunction
-    wire [34:0] credit_n = go ? (over_cap(credit_if_go) ? CREDIT_CAP : credit_if_go)
-                              : (over_cap(credit_if_hold) ? CREDIT_CAP : credit_if_hold);
 
     always @(posedge clk) begin
-        if (rst) begin
-            credit_q     <= 35'd0;
-            threshold1_q <= 9'd100;
-            threshold2_q <= 9'd200;
-            override_q   <= 8'd0;
-            factor_q     <= 2'd0;
+        if (produce && !flush) move_mem[move_write_q] <= produce_entry;
+    end
+    always @(posedge clk) begin
+        if (rst || flush) begin
+            move_write_q <= {MOVE_INDEX_W{1'b0}};
+            move_read_q <= {MOVE_INDEX_W{1'b0}};
+            move_count_q <= {(MOVE_INDEX_W+1){1'b0}};
         end else begin
-            override_q <= override_n;
-            factor_q   <= factor_n;
-            if (abort_now) begin
-                credit_q <= 35'd0;
-            end else begin
-                credit_q     <= credit_n;
-                threshold1_q <= threshold1_sum;
-                threshold2_q <= threshold2_sum;
-            end
+            if (produce) move_write_q <= move_next(move_write_q);
+            if (stage_pop) move_read_q <= move_next(move_read_q);
+            if (produce && !stage_pop) move_count_q <= move_count_q + MOVE_COUNT_ONE;
+            else if (stage_pop && !produce) move_count_q <= move_count_q - MOVE_COUNT_ONE;
+        end
+    end
+
+    wire [MOVE_W-1:0] move_head = move_mem[move_read_q];
+    wire              move_valid = (move_count_q != {(MOVE_INDEX_W+1){1'b0}});
+    wire [NA-1:0]     head_step = move_head[NA-1:0];
+    wire [NA-1:0]     head_dir  = move_head[2*NA-1:NA];
+    wire [1:0]        head_class = move_head[2*NA+1:2*NA];
+    wire              head_last = move_head[2*NA+2];
+
+    // ------------------------------------------------------------------
+    // Profile queue: {cont, profile}
+    // ------------------------------------------------------------------
+    localparam integer PQ_W = PROFILE_W + 1;
+    localparam integer PQ_INDEX_W = (PROFILE_DEPTH > 1) ? $clog2(PROFILE_DEPTH) : 1;
+    localparam [PQ_INDEX_W:0] PQ_FULL = PROFILE_DEPTH[PQ_INDEX_W:0];
+    localparam [PQ_INDEX_W:0] PQ_COUNT_ONE = {{PQ_INDEX_W{1'b0}}, 1'b1};
+    localparam [PQ_INDEX_W-1:0] PQ_LAST_INDEX = PROFILE_DEPTH[PQ_INDEX_W-1:0] - 1'b1;
+
+    reg  [PQ_W-1:0]       pq_mem [0:PROFILE_DEPTH-1];
+    reg  [PQ_INDEX_W-1:0] pq_write_q, pq_read_q;
+    reg  [PQ_INDEX_W:0]   pq_count_q;
+    wire                  stage_take;
+    wire                  segment_load = accept;
+    assign profile_room = (pq_count_q != PQ_FULL);
+
+    function [PQ_INDEX_W-1:0] pq_next;
+        input [PQ_INDEX_W-1:0] index;
+        begin
+            pq_next = (index == PQ_LAST_INDEX) ? {PQ_INDEX_W{1'b0}}
+                                               : index + {{(PQ_INDEX_W-1){1'b0}}, 1'b1};
+        end
+    endfunction
+
+    always @(posedge clk) begin
+        if (segment_load && !flush) pq_mem[pq_write_q] <= {pend_cont_q, profile_q};
+    end
+    always @(posedge clk) begin
+        if (rst || flush) begin
+            pq_write_q <= {PQ_INDEX_W{1'b0}};
+            pq_read_q <= {PQ_INDEX_W{1'b0}};
+            pq_count_q <= {(PQ_INDEX_W+1){1'b0}};
+        end else begin
+            if (segment_load) pq_write_q <= pq_next(pq_write_q);
+            if (stage_take) pq_read_q <= pq_next(pq_read_q);
+            if (segment_load && !stage_take) pq_count_q <= pq_count_q + PQ_COUNT_ONE;
+            else if (stage_take && !segment_load) pq_count_q <= pq_count_q - PQ_COUNT_ONE;
+        end
+    end
+
+    wire [PQ_W-1:0]      pq_head = pq_mem[pq_read_q];
+    wire                 pq_valid = (pq_count_q != {(PQ_INDEX_W+1){1'b0}});
+    wire [PROFILE_W-1:0] next_profile = pq_head[PROFILE_W-1:0];
+    wire                 next_cont = pq_head[PROFILE_W];
+
+    // ------------------------------------------------------------------
+    // Profile stage
+    // ------------------------------------------------------------------
+    wire [NA-1:0] ready_pos, ready_neg, stepgen_busy;
+    wire          steps_ready = &(~head_step | (head_dir & ready_pos) | (~head_dir & ready_neg));
+    wire          stage_stopped, stage_holding, stage_busy;
+    wire          unused_holding = stage_holding;
+
+    halfpoint_profile #(
+        .W   (W),
+        .DIV (DIV)
+    ) u_profile (
+        .clk            (clk),
+        .rst            (rst),
+        .abort          (abort_now),
+        .head_valid     (move_valid),
+        .head_class     (head_class),
+        .head_last      (head_last),
+        .ready          (steps_ready),
+        .next_valid     (pq_valid),
+        .next_v_cruise  (next_profile[31:0]),
+        .next_v_exit    (next_profile[63:32]),
+        .next_accel     (next_profile[97:64]),
+        .next_line_cost (next_profile[115:98]),
+        .next_d_exit    (next_profile[116 +: DW]),
+        .next_d_stop    (next_profile[116 + DW +: DW]),
+        .hold           (hold),
+        .stop           (stop),
+        .override       (feed_override),
+        .pop            (stage_pop),
+        .take           (stage_take),
+        .stopped        (stage_stopped),
+        .holding        (stage_holding),
+        .speed          (speed),
+        .dry            (dry),
+        .busy           (stage_busy)
+    );
+
+    assign stage_rest = (speed == 38'd0);
+    assign flush = abort_now || stage_stopped;
+    // the move made at this edge (none on a flush edge)
+    wire go = stage_pop && !flush;
+
+    // CONT of the stage's current segment
+    reg stage_cont_q;
+    always @(posedge clk) begin
+        if (rst || flush) begin
+            stage_cont_q <= 1'b0;
+        end else if (stage_take) begin
+            stage_cont_q <= next_cont;
+        end else if (stage_pop && head_last) begin
+            stage_cont_q <= 1'b0;
         end
     end
 
@@ -478,8 +649,8 @@ module halfpoint_core #(
                 .cfg_dirhold   (cfg_dirhold[a*TW +: TW]),
                 .cfg_step_inv  (cfg_step_inv[a]),
                 .cfg_dir_inv   (cfg_dir_inv[a]),
-                .req           (go && next_step[a]),
-                .req_dir       (next_dir[a]),
+                .req           (go && head_step[a]),
+                .req_dir       (head_dir[a]),
                 .ready_pos     (ready_pos[a]),
                 .ready_neg     (ready_neg[a]),
                 .busy          (stepgen_busy[a]),
@@ -489,8 +660,8 @@ module halfpoint_core #(
             always @(posedge clk) begin
                 if (rst) begin
                     pos[a*W +: W] <= {W{1'b0}};
-                end else if (go && next_step[a]) begin
-                    pos[a*W +: W] <= next_dir[a] ? pos[a*W +: W] + POSITION_ONE
+                end else if (go && head_step[a]) begin
+                    pos[a*W +: W] <= head_dir[a] ? pos[a*W +: W] + POSITION_ONE
                                                  : pos[a*W +: W] - POSITION_ONE;
                 end
             end
@@ -501,14 +672,16 @@ module halfpoint_core #(
     // Status
     // ------------------------------------------------------------------
     assign busy = (count_q != {(INDEX_W+1){1'b0}}) || in_flight_q || arc_busy || line_busy ||
-                  (|stepgen_busy);
+                  move_valid || pq_valid || stage_busy || (|stepgen_busy);
 
-    wire              ending = arc_ending || line_ending;
-    wire              cont   = arc_run ? arc_cont_run_q : line_cont_run_q;
     // the arc unit's reject codes 1, 2, 3
     wire [CODE_W-1:0] arc_code = (arc_error == 2'd1) ? `HALFPOINT_E_ARC_RADIUS
                                : (arc_error == 2'd2) ? `HALFPOINT_E_ARC_RANGE
                                : `HALFPOINT_E_ARC_END;
+    wire [CODE_W-1:0] dispatch_code = head_bad_opcode ? `HALFPOINT_E_OPCODE
+                                    : head_bad_fit ? `HALFPOINT_E_FIELD
+                                    : head_bad_profile ? `HALFPOINT_E_PROFILE_FIELD
+                                    : `HALFPOINT_E_PROFILE;
 
     always @(posedge clk) begin
         if (rst) begin
@@ -518,17 +691,17 @@ module halfpoint_core #(
             underrun <= 1'b0;
         end else begin
             move <= go;
-            err  <= !abort_now && (dispatch_error || arc_reject || line_reject);
-            if (!abort_now) begin
+            err  <= !flush && (dispatch_error || arc_reject || line_reject);
+            if (!flush) begin
                 if (dispatch_error) begin
-                    err_code <= head_bad_opcode ? `HALFPOINT_E_OPCODE : `HALFPOINT_E_FIELD;
+                    err_code <= dispatch_code;
                 end else if (arc_reject) begin
                     err_code <= arc_code;
                 end else if (line_reject) begin
                     err_code <= `HALFPOINT_E_OPCODE;
                 end
+                if (stage_pop && head_last && stage_cont_q && !stage_take) underrun <= 1'b1;
             end
-            if (ending && cont && !arc_loading && !line_loading) underrun <= 1'b1;
         end
     end
 

@@ -81,6 +81,8 @@ module halfpoint_line #(
     input  wire            start_en,
     // a segment is in the run stage
     output wire            running,
+    // a validated segment waits in the pending slot (registered)
+    output wire            pending,
     // the pending segment enters the run stage at this edge
     output wire            loading,
     // the running segment makes its last move at this edge
@@ -187,6 +189,7 @@ module halfpoint_line #(
     assign load = (validator_state_q == STATE_HOLD) && start_en && !abort_now && (!run_q || last);
 
     assign running = run_q;
+    assign pending = (validator_state_q == STATE_HOLD);
     assign loading = load;
     assign ending  = last;
     assign nx_step = steps;

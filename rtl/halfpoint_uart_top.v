@@ -48,7 +48,10 @@ module halfpoint_uart_top #(
     parameter integer DIRSETUP       = 24,
     parameter integer DIRHOLD        = 24,
     // 1 when the buttons pull the pin low when pressed, else 0
-    parameter integer BTN_ACTIVE_LOW = 0
+    parameter integer BTN_ACTIVE_LOW = 0,
+    // the core's profile tick, 2^DIV clocks: the host's profile.choose_div(CLK_HZ)
+    // (10 at 12 MHz, 11 at 25 MHz); the machine file's clock_hz must be CLK_HZ
+    parameter integer DIV            = 10
 ) (
     input  wire          clk,
 
@@ -154,11 +157,15 @@ module halfpoint_uart_top #(
     wire [$clog2(DEPTH):0]  level;
     wire                    underrun;
 
+    wire        unused_dry;
+    wire [37:0] unused_speed;
+
     halfpoint_core #(
         .NA    (NA),
         .W     (W),
         .DEPTH (DEPTH),
-        .TW    (TW)
+        .TW    (TW),
+        .DIV   (DIV)
     ) u_core (
         .clk           (clk),
         .rst           (rst_q),
@@ -171,7 +178,9 @@ module halfpoint_uart_top #(
         .cfg_dirhold   ({NA{dirhold_setting}}),
         .cfg_step_inv  ({NA{1'b0}}),
         .cfg_dir_inv   ({NA{1'b0}}),
-        .feed_override (8'd100),
+        .feed_override (8'd128),
+        .hold          (1'b0),
+        .stop          (1'b0),
         .abort_now     (abort_button_q[1]),
         .step_pin      (step),
         .dir_pin       (dir),
@@ -181,11 +190,13 @@ module halfpoint_uart_top #(
         .queue_level   (level),
         .err           (err),
         .err_code      (err_code),
-        .underrun      (underrun)
+        .underrun      (underrun),
+        .dry           (unused_dry),
+        .speed         (unused_speed)
     );
 
     // position and move are for a user's own logic (a DRO, a probe latch)
-    wire unused_pos = ^pos ^ move;
+    wire unused_pos = ^pos ^ move ^ unused_dry ^ (^unused_speed);
 
     // ----------------------------------------------------------------- status
     reg       err_seen_q;

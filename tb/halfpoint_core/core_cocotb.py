@@ -14,26 +14,55 @@ from halfpoint.spec import encoding as enc
 from halfpoint.sim.corebench import CoreBench
 from halfpoint.sim.design import read_parameters
 from halfpoint.spec.rules import wrap
-from halfpoint.spec.program import expect, random_arc, random_line
+from halfpoint.spec.program import (expect, move_count, profiled, random_arc,
+                                    random_line)
 from halfpoint.spec.stepgen import StepCfg
 
-NA = W = DEPTH = TW = 0     # the design's parameters: bind() reads them
+NA = W = DEPTH = TW = DIV = MOVE_DEPTH = PROFILE_DEPTH = 0   # bind() reads them
 SEED = int(os.environ.get("HP_SEED", "1"))
+ONE = 1 << 32               # a speed field of 1 BLU per clock
 
 
 def bind(dut) -> None:
-    """Take NA, W, DEPTH, TW from the design under test (its parameters)."""
-    global NA, W, DEPTH, TW
-    NA, W, DEPTH, TW = read_parameters(dut, "NA", "W", "DEPTH", "TW")
+    """Take the parameters from the design under test."""
+    global NA, W, DEPTH, TW, DIV, MOVE_DEPTH, PROFILE_DEPTH
+    NA, W, DEPTH, TW, DIV, MOVE_DEPTH, PROFILE_DEPTH = read_parameters(
+        dut, "NA", "W", "DEPTH", "TW", "DIV", "MOVE_DEPTH", "PROFILE_DEPTH")
 
 
-def rate(rng, lo=0.2, hi=2.0):
-    return int(rng.uniform(lo, hi) * enc.RATE_ONE)
+def new_bench(dut, cfg=None, seed=SEED):
+    return CoreBench(dut, NA, W, DEPTH, TW, cfg=cfg, seed=seed, div=DIV,
+                     move_depth=MOVE_DEPTH, profile_depth=PROFILE_DEPTH)
+
+
+def speed(rng, lo=0.05, hi=0.45):
+    """A random path speed field (BLU per clock x 2^32)."""
+    return int(rng.uniform(lo, hi) * ONE)
+
+
+def accel(rng):
+    """A random speed step per tick: 0 to 0.3 BLU per clock in 20..200 ticks."""
+    return int(rng.uniform(0.3 / 200, 0.3 / 20) * (1 << 38))
+
+
+def plan(rng, cmds, lo=0.05, hi=0.45):
+    """``cmds`` with planned PROFILEs: random cruise speeds, accelerations, junctions."""
+    return profiled(cmds, NA, W, DIV, v_cruise=lambda k: speed(rng, lo, hi),
+                    accel=lambda k: accel(rng), rng=rng)
 
 
 def random_cfg(rng):
     return [StepCfg(rng.randint(1, 3), rng.randint(0, 3), rng.randint(0, 3), rng.randint(0, 3),
                     rng.randint(0, 1), rng.randint(0, 1)) for _ in range(NA)]
+
+
+def random_pulses(rng, start, end, count, longest):
+    """Cycles covered by ``count`` random pulses of up to ``longest`` cycles."""
+    out = set()
+    for _ in range(count):
+        t = rng.randint(start, end)
+        out.update(range(t, t + rng.randint(1, longest)))
+    return out
 
 
 def check_end(bench, cmds):
@@ -49,36 +78,48 @@ def check_end(bench, cmds):
 
 @cocotb.test()
 async def mixed_program(dut):
-    """Hundreds of mixed arcs and lines at random rates, random gaps on the
-    stream, random STEP/DIR timing and polarity, rejected and empty commands
-    in the middle; every clock compared, every pin edge checked."""
+    """Mixed arcs and lines with planned profiles (accelerations, junction speeds),
+    random gaps on the stream, random STEP/DIR timing and polarity, random holds and
+    override changes, rejected commands and empty ones in the middle; every clock
+    compared, every pin edge checked."""
     bind(dut)
     rng = random.Random(SEED)
-    bench = CoreBench(dut, NA, W, DEPTH, TW, cfg=random_cfg(rng), seed=SEED)
+    bench = new_bench(dut, cfg=random_cfg(rng))
     await bench.start(pause_prob=0.3)
     cmds = []
-    for k in range(240):
+    for k in range(80):
         if rng.random() < 0.5:
-            cmds.append(random_arc(rng, rate(rng)))
+            cmds.append(random_arc(rng, rmax=30))
         else:
-            cmds.append(random_line(rng, NA, rate(rng), scale=rng.choice((2, 30))))
-        if k == 40:
+            cmds.append(random_line(rng, NA, scale=rng.choice((2, 30))))
+        if k == 10:
             cmds.append(enc.encode_arc(0, -100, 0, 0, 103))           # end off the circle
-        if k == 80:
-            cmds.append(enc.pack([7, enc.RATE_ONE, 1, 2, 3, 0, 0, 0]))  # unknown opcode
-        if k == 120:
+        if k == 20:
+            cmds.append(enc.pack([7, 0, 1, 2, 3, 0, 0, 0]))          # unknown opcode
+        if k == 30:
             cmds.append(enc.encode_line([0] * NA))                    # empty: a no-op
-        if k == 160:
+        if k == 40:
             cmds.append(enc.encode_arc(1, 0, 0, 5, 5))                # radius zero
-        if k == 200:
-            cmds.append(enc.pack([enc.OP_LINE | 0x10, enc.RATE_ONE, 1, 0, 0, 0, 0, 0]))  # reserved bit
+        if k == 50:
+            cmds.append(enc.pack([enc.OP_LINE | 0x10, 0, 1, 0, 0, 0, 0, 0]))  # reserved bit
     if W < 32:
         cmds.append(enc.encode_line([1 << (W - 1)] + [0] * (NA - 1)))  # out of the width
-    await bench.send(cmds)
+    prog = plan(rng, cmds)
+    # a line under an arc's profile, a bad profile and the line after it
+    arc_profile = next(c for c in prog if enc.decode(c)["opcode"] == enc.OP_PROFILE
+                       and enc.decode(c)["line_cost"] == 0)
+    prog[30:30] = [arc_profile, enc.encode_line([3] + [0] * (NA - 1)),
+                   enc.encode_profile(100, 200, 1), enc.encode_line([0, 3] + [0] * (NA - 2))]
+    bench.hold_schedule = random_pulses(rng, 500, 20_000, 6, 600)
+    bench.override_schedule = {rng.randint(500, 20_000): rng.choice((0, 40, 100, 128, 200))
+                               for _ in range(8)}
+    await bench.send(prog)
     await bench.drain()
-    check_end(bench, cmds)
-    assert len(bench.errors) >= 4
-    dut._log.info("mixed program: %d commands, %d moves, %d clocks", len(cmds), bench.moves, bench.cycle)
+    check_end(bench, prog)
+    assert {enc.E_PROFILE, enc.E_PROFILE_FIELD} <= {c for _, c in bench.errors}
+    assert len(bench.errors) >= 7
+    dut._log.info("mixed program: %d commands, %d moves, %d clocks", len(prog), bench.moves,
+                  bench.cycle)
 
 
 @cocotb.test()
@@ -86,85 +127,141 @@ async def queue_full_and_empty(dut):
     """A slow program fills the queue (tready low at DEPTH), then drains."""
     bind(dut)
     rng = random.Random(SEED + 1)
-    bench = CoreBench(dut, NA, W, DEPTH, TW, seed=SEED + 1)
+    bench = new_bench(dut, seed=SEED + 1)
     await bench.start()
-    cmds = [random_line(rng, NA, int(0.3 * enc.RATE_ONE), scale=6) for _ in range(3 * DEPTH)]
+    cmds = [random_line(rng, NA, scale=6) for _ in range(2 * DEPTH)]
     cmds = [c for c in cmds if enc.decode(c)["deltas"][:NA] != [0] * NA]
-    await bench.send(cmds)
+    prog = plan(rng, cmds, 0.02, 0.05)
+    await bench.send(prog)
     await bench.drain()
-    check_end(bench, cmds)
+    check_end(bench, prog)
     assert bench.max_level == DEPTH, f"queue reached {bench.max_level} of {DEPTH}"
 
 
 @cocotb.test()
-async def feed_override_and_hold(dut):
-    """Live feed override: 100 %, 50 %, 0 % (hold: no move), 150 %, 200 %."""
+async def hold_resume_and_override(dut):
+    """Feed hold decelerates to rest and stays there (no move while held at rest),
+    resumes; override changes (0 holds the motion too); the moves are those of the
+    program, every clock as the model."""
     bind(dut)
     rng = random.Random(SEED + 2)
-    bench = CoreBench(dut, NA, W, DEPTH, TW, cfg=[StepCfg(1, 0, 0, 0)] * NA, seed=SEED + 2)
+    bench = new_bench(dut, cfg=[StepCfg(1, 0, 0, 0)] * NA, seed=SEED + 2)
     await bench.start()
-    bench.override_schedule = {300: 50, 700: 0, 1100: 150, 1500: 200, 1800: 37}
-    cmds = [random_arc(rng, int(0.4 * enc.RATE_ONE), rmin=20, rmax=40) for _ in range(6)]
-    await bench.send(cmds)
+    bench.hold_schedule = set(range(800, 2500))
+    bench.override_schedule = {3000: 64, 3600: 0, 4600: 128, 5000: 200, 5600: 37}
+    cmds = [random_arc(rng, rmin=20, rmax=40) for _ in range(6)]
+    prog = plan(rng, cmds, 0.3, 0.45)
+    await bench.send(prog)
     held = None
-    while bench.cycle < 1100:
+    while bench.cycle < 2500:
         await FallingEdge(dut.clk)
-        if bench.cycle == 760:
-            held = bench.moves
-    assert bench.moves == held, "moves were made while the feed override was 0"
+        if bench.last["speed"] == 0 and bench.cycle > 800 and held is None:
+            held = (bench.cycle, bench.moves)
+    assert held is not None and held[0] < 2000, "hold did not reach rest"
+    assert bench.moves == held[1], "moves were made while held at rest"
     await bench.drain()
-    check_end(bench, cmds)
+    check_end(bench, prog)
 
 
 @cocotb.test()
-async def underrun_flag(dut):
-    """CONT segments with a gap in the stream set underrun; the last segment
-    of a program (CONT clear) does not."""
+async def underrun_and_dry_queue(dut):
+    """A CONT segment with nothing behind it sets underrun; the last segment of a
+    program (CONT clear) does not.  A segment planned to leave at speed whose
+    successor comes late decelerates (dry)."""
     bind(dut)
     rng = random.Random(SEED + 3)
-    bench = CoreBench(dut, NA, W, DEPTH, TW, seed=SEED + 3)
+    bench = new_bench(dut, seed=SEED + 3)
     await bench.start()
-    await bench.send([random_line(rng, NA, enc.RATE_ONE, cont=False, scale=20)])
+    await bench.send(plan(rng, [random_line(rng, NA, cont=False, scale=20)]))
     await bench.drain()
-    assert bench.last["underrun"] == 0
-    cmds = [random_line(rng, NA, enc.RATE_ONE, cont=True, scale=20)]
-    await bench.send(cmds)
+    assert bench.last["underrun"] == 0 and bench.last["dry"] == 0
+    first = random_line(rng, NA, cont=True, scale=300)
+    second = random_line(rng, NA, scale=300)
+    prog = profiled([first, second], NA, W, DIV, v_cruise=ONE // 4, accel=1 << 30,
+                    junction=ONE // 4)
+    await bench.send(prog[:2])
+    for _ in range(3000):
+        await FallingEdge(dut.clk)
+    await bench.send(prog[2:])
     await bench.drain()
-    assert bench.last["underrun"] == 1
+    assert bench.last["underrun"] == 1 and bench.last["dry"] == 1
 
 
 @cocotb.test()
-async def no_idle_clock_at_boundaries(dut):
-    """With segments queued ahead, some segment is in a run stage on every
-    clock from the first move to the last: a boundary between arcs and lines,
-    in any order, costs no clock (read from the RTL's own run flags)."""
+async def interpolators_run_ahead(dut):
+    """While the move queue has room and segments are queued, the interpolators make
+    a move on every clock (read from the RTL's own signals), arcs and lines in any
+    order; the pins never wait for them at a feed the STEP timing allows."""
     bind(dut)
     rng = random.Random(SEED + 4)
-    bench = CoreBench(dut, NA, W, DEPTH, TW, cfg=[StepCfg(1, 0, 0, 0)] * NA, seed=SEED + 4)
+    bench = new_bench(dut, cfg=[StepCfg(1, 0, 0, 0)] * NA, seed=SEED + 4)
     await bench.start()
     cmds = []
-    while len(cmds) < 24:
-        c = random_arc(rng, 2 * enc.RATE_ONE, cont=True, rmin=12, rmax=30) if len(cmds) % 3 \
-            else random_line(rng, NA, 2 * enc.RATE_ONE, cont=True, scale=60)
-        n = len(expect([c], NA, W)[0])
-        if n >= 50:
+    while len(cmds) < 16:
+        c = random_arc(rng, cont=True, rmin=12, rmax=30) if len(cmds) % 3 \
+            else random_line(rng, NA, cont=True, scale=60)
+        if move_count(c, NA, W) >= 50:
             cmds.append(c)
     cmds[-1] &= ~enc.FLAG_CONT          # the program's last segment
-    running = []
+    prog = profiled(cmds, NA, W, DIV, v_cruise=ONE // 2 - 1, accel=1 << 33,
+                    junction=ONE // 2 - 1)
+    samples = []
 
     async def watch():
         while True:
             await FallingEdge(dut.clk)
-            running.append((bench.moves, int(dut.arc_run.value) | int(dut.line_run.value)))
+            samples.append((bench.moves, int(dut.move_room.value), int(dut.produce.value),
+                            int(dut.move_valid.value)))
 
     cocotb.start_soon(watch())
-    await bench.send(cmds)
+    await bench.send(prog)
     await bench.drain()
-    check_end(bench, cmds)
+    check_end(bench, prog)
     total = bench.moves
-    active = [r for m, r in running if 0 < m < total]
-    assert active and all(active), f"{active.count(0)} clocks without a running segment"
+    inner = [s for s in samples if 0 < s[0] < total - MOVE_DEPTH]
+    room = [s for s in inner if s[1]]
+    made = sum(s[2] for s in room)
+    dut._log.info("moves per clock with room: %d / %d", made, len(room))
+    if PROFILE_DEPTH >= 2:
+        assert room and made >= 0.99 * len(room), f"{made} moves in {len(room)} clocks"
+    assert all(s[3] for s in inner), "the move queue ran empty in the middle of the program"
     assert bench.last["underrun"] == 0
+    # with one profile queued the look-ahead is one segment: shorter than the
+    # stopping distance, the next one is not validated in time (dry, as planned)
+    assert bench.last["dry"] == (0 if PROFILE_DEPTH >= 2 else bench.last["dry"])
+
+
+@cocotb.test()
+async def stop_then_new_program(dut):
+    """stop decelerates to rest, then drops the rest of the program; a new program
+    (with its profile: the one in force is forgotten) runs from where the axes
+    stopped."""
+    bind(dut)
+    rng = random.Random(SEED + 6)
+    bench = new_bench(dut, cfg=random_cfg(rng), seed=SEED + 6)
+    await bench.start()
+    first = plan(rng, [random_arc(rng, rmin=10, rmax=30) if k % 2
+                       else random_line(rng, NA, scale=40) for k in range(12)], 0.2, 0.4)
+    cocotb.start_soon(bench.send(first))
+    while bench.moves < 60:
+        await FallingEdge(dut.clk)
+    t = bench.cycle + 1
+    bench.stop_schedule = set(range(t, t + 4000))
+    while bench.cycle < t + 4000:
+        await FallingEdge(dut.clk)
+    await bench.source.wait()
+    await bench.drain()
+    stopped = bench.last["pos"]
+    assert bench.moves < len(expect(first, NA, W)[0]), "stop came too late to test anything"
+    second = plan(rng, [random_line(rng, NA, scale=20), random_arc(rng)])
+    bench.trace.clear()
+    before = len(bench.errors)
+    await bench.send([enc.encode_line([1] + [0] * (NA - 1))] + second)
+    await bench.drain()
+    assert [c for _, c in bench.errors[before:]] == [enc.E_PROFILE]
+    trace, _, _ = expect(second, NA, W)
+    shifted = [tuple(wrap(a + b, W) for a, b in zip(p, stopped)) for p in trace]
+    assert bench.trace == shifted
 
 
 @cocotb.test()
@@ -175,10 +272,10 @@ async def abort_then_new_program(dut):
     stopped."""
     bind(dut)
     rng = random.Random(SEED + 5)
-    bench = CoreBench(dut, NA, W, DEPTH, TW, cfg=random_cfg(rng), seed=SEED + 5)
+    bench = new_bench(dut, cfg=random_cfg(rng), seed=SEED + 5)
     await bench.start()
-    first = [random_arc(rng, rate(rng, 0.5, 1.5), rmin=10, rmax=30) if k % 2
-             else random_line(rng, NA, rate(rng, 0.5, 1.5), scale=40) for k in range(12)]
+    first = plan(rng, [random_arc(rng, rmin=10, rmax=30) if k % 2
+                       else random_line(rng, NA, scale=40) for k in range(12)], 0.2, 0.4)
     cocotb.start_soon(bench.send(first))
     while bench.moves < 60:
         await FallingEdge(dut.clk)
@@ -192,7 +289,7 @@ async def abort_then_new_program(dut):
     stopped = bench.last["pos"]
     moved_before = bench.moves
     assert moved_before < len(expect(first, NA, W)[0]), "abort came too late to test anything"
-    second = [random_line(rng, NA, enc.RATE_ONE, scale=20), random_arc(rng, enc.RATE_ONE)]
+    second = plan(rng, [random_line(rng, NA, scale=20), random_arc(rng)])
     bench.trace.clear()
     await bench.send(second)
     await bench.drain()

@@ -66,53 +66,63 @@ def sized(width: int, value: int) -> str:
 def defines(enc: ModuleType = encoding) -> list[Define]:
     """The header's macros, derived from the encoding module ``enc``."""
     bits = enc.CMD_BITS
-    one = enc.RATE_ONE
-    full = (1 << 32) - 1
 
     # word 0: opcode and CONT
     op_lsb, op_width = bit_run(enc.OPCODE_MASK, "opcode")
-    line0 = enc.encode_line([0], rate=one)
+    line0 = enc.encode_line([0])
     if (line0 >> op_lsb) & enc.OPCODE_MASK != enc.OP_LINE:
         raise ValueError("the encoder does not put OP_LINE into the opcode bits")
-    cont_lsb, cont_width = field_bits(enc.encode_line([0], rate=one, cont=True), line0, "CONT")
+    cont_lsb, cont_width = field_bits(enc.encode_line([0], cont=True), line0, "CONT")
     if cont_width != 1 or enc.FLAG_CONT != 1 << cont_lsb:
         raise ValueError("CONT is not the single bit FLAG_CONT")
 
-    # rate and the line deltas
-    rate = field_bits(enc.encode_line([0], rate=0), enc.encode_line([0], rate=full), "rate")
-    zeros = enc.encode_line([0] * enc.MAX_AXES, rate=one)
+    # the line deltas
+    zeros = enc.encode_line([0] * enc.MAX_AXES)
     deltas = []
     for k in range(enc.MAX_AXES):
         marked = [0] * enc.MAX_AXES
         marked[k] = -1
-        deltas.append(field_bits(enc.encode_line(marked, rate=one), zeros, f"delta {k}"))
+        deltas.append(field_bits(enc.encode_line(marked), zeros, f"delta {k}"))
     stride = deltas[1][0] - deltas[0][0] if len(deltas) > 1 else deltas[0][1]
     for k, (lsb, width) in enumerate(deltas):
         if lsb != deltas[0][0] + k * stride or width != deltas[0][1]:
             raise ValueError("the line deltas are not evenly spaced fields of one width")
 
     # arc coordinates
-    arc0 = enc.encode_arc(0, 0, 0, 0, 0, rate=one)
+    arc0 = enc.encode_arc(0, 0, 0, 0, 0)
     coords = {}
     for n, name in enumerate("IJXY"):
         args = [0, 0, 0, 0]
         args[n] = -1
-        coords[name] = field_bits(enc.encode_arc(0, *args, rate=one), arc0, f"arc {name}")
-    cw = field_bits(enc.encode_arc(1, 0, 0, 0, 0, rate=one), arc0, "arc direction")
+        coords[name] = field_bits(enc.encode_arc(0, *args), arc0, f"arc {name}")
+    cw = field_bits(enc.encode_arc(1, 0, 0, 0, 0), arc0, "arc direction")
     if cw[0] < op_lsb or cw[0] + cw[1] > op_lsb + op_width:
         raise ValueError("the arc's direction is not carried by the opcode")
+
+    # profile fields: each found by encoding it all ones against all zeros
+    profile0 = enc.encode_profile(0, 0, 0)
+    if (profile0 >> op_lsb) & enc.OPCODE_MASK != enc.OP_PROFILE:
+        raise ValueError("the encoder does not put OP_PROFILE into the opcode bits")
+    prof = {}
+    for n, (name, _, width) in enumerate(enc.PROFILE_FIELDS):
+        args = [0] * len(enc.PROFILE_FIELDS)
+        args[n] = (1 << width) - 1
+        prof[name] = field_bits(enc.encode_profile(*args), profile0, f"profile {name}")
 
     # reserved bits: everything a command of the kind does not use
     def mask(lsb: int, width: int) -> int:
         return ((1 << width) - 1) << lsb
     all_bits = (1 << bits) - 1
-    common = mask(op_lsb, op_width) | enc.FLAG_CONT | mask(*rate)
+    common = mask(op_lsb, op_width) | enc.FLAG_CONT
     line_used = common
     for d in deltas:
         line_used |= mask(*d)
     arc_used = common
     for c in coords.values():
         arc_used |= mask(*c)
+    profile_used = mask(op_lsb, op_width)
+    for f in prof.values():
+        profile_used |= mask(*f)
     digits = (bits + 3) // 4
 
     errors = sorted((v, n) for n, v in vars(enc).items()
@@ -133,10 +143,8 @@ def defines(enc: ModuleType = encoding) -> list[Define]:
                "arc in the XY plane, counter-clockwise (G3)"),
         Define("FLAG_CONT_BIT", str(cont_lsb),
                "CONT: more segments of this program follow (for the underrun flag)"),
-        Define("", "", "feed rate, unsigned, BLU per clock x 2^RATE_FRAC_BITS"),
-        Define("CMD_RATE_LSB", str(rate[0]), ""),
-        Define("CMD_RATE_WIDTH", str(rate[1]), ""),
-        Define("RATE_FRAC_BITS", str(enc.RATE_FRAC_BITS), ""),
+        Define("OP_PROFILE", sized(op_width, enc.OP_PROFILE),
+               "velocity profile of the motion commands that follow"),
         Define("", "", "line: signed delta of axis k in bits "
                "CMD_DELTA_LSB + k * CMD_DELTA_STRIDE +: CMD_DELTA_WIDTH"),
         Define("CMD_DELTA_LSB", str(deltas[0][0]), ""),
@@ -148,12 +156,20 @@ def defines(enc: ModuleType = encoding) -> list[Define]:
     for name, (lsb, width) in coords.items():
         out += [Define(f"CMD_ARC_{name}_LSB", str(lsb), ""),
                 Define(f"CMD_ARC_{name}_WIDTH", str(width), "")]
+    out += [Define("", "", "profile fields (unsigned; spec/profile.py gives their fixed point)")]
+    for name, (lsb, width) in prof.items():
+        out += [Define(f"CMD_PROFILE_{name.upper()}_LSB", str(lsb), ""),
+                Define(f"CMD_PROFILE_{name.upper()}_WIDTH", str(width), "")]
     out += [
+        Define("PROFILE_DISTANCE_EXTRA", str(enc.PROFILE_DISTANCE_EXTRA),
+               "d_exit, d_stop < 2^(W + PROFILE_DISTANCE_EXTRA) in a core of width W"),
         Define("", "", "reserved bits (must be zero, else the command is rejected, E_OPCODE)"),
         Define("CMD_RESERVED_LINE", f"{bits}'h{all_bits & ~line_used:0{digits}x}",
                "of a line command (deltas of axes the core does not have are checked too)"),
         Define("CMD_RESERVED_ARC", f"{bits}'h{all_bits & ~arc_used:0{digits}x}",
                "of an arc command"),
+        Define("CMD_RESERVED_PROFILE", f"{bits}'h{all_bits & ~profile_used:0{digits}x}",
+               "of a profile command"),
         Define("", "", "error codes of the core (err_code output)"),
         Define("ERR_CODE_BITS", str(enc.ERR_CODE_BITS), ""),
     ]

@@ -36,8 +36,12 @@ TARGETS = {
     "halfpoint_uart_top": [{"CLK_HZ": 12000000},
                            {"CLK_HZ": 1000000, "BAUD": 125000, "DEPTH": 2},
                            {"CLK_HZ": 25000000, "BTN_ACTIVE_LOW": 1, "NA": 2, "W": 16, "DEPTH": 8}],
-    "halfpoint_core": [{"NA": 3, "W": 32}, {"NA": 2, "W": 16, "DEPTH": 2},
-                       {"NA": 6, "W": 24, "DEPTH": 4}],
+    "halfpoint_profile": [{"W": 32, "DIV": 12}, {"W": 8, "DIV": 1}, {"W": 16, "DIV": 24}],
+    "halfpoint_core": [{"NA": 3, "W": 32}, {"NA": 2, "W": 16, "DEPTH": 2, "DIV": 1,
+                                            "MOVE_DEPTH": 2, "PROFILE_DEPTH": 1},
+                       {"NA": 6, "W": 24, "DEPTH": 4, "DIV": 24, "MOVE_DEPTH": 16,
+                        "PROFILE_DEPTH": 8},
+                       {"NA": 3, "W": 32, "MOVE_DEPTH": 3, "PROFILE_DEPTH": 3}],
 }
 
 # rtl/ecp5/: modules built from ECP5 primitives (synthesis references only)

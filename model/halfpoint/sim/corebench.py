@@ -23,7 +23,7 @@ from ..spec.stepgen import StepCfg
 from .timing import StepDirChecker
 
 FIELDS = ("tready", "busy", "level", "move", "pos", "step_pins", "dir_pins",
-          "err", "err_code", "underrun")
+          "err", "err_code", "underrun", "dry", "speed")
 
 
 class Mismatch(AssertionError):
@@ -32,18 +32,23 @@ class Mismatch(AssertionError):
 
 class CoreBench:
     def __init__(self, dut, axes: int, width: int, depth: int, tw: int,
-                 cfg: list[StepCfg] | None = None, seed: int = 1, check: bool = True):
+                 cfg: list[StepCfg] | None = None, seed: int = 1, check: bool = True,
+                 div: int = 12, move_depth: int = 4, profile_depth: int = 2):
         self.dut = dut
         self.axes, self.width, self.depth, self.tw = axes, width, depth, tw
         self.cfg = cfg or [StepCfg() for _ in range(axes)]
-        self.model = CoreModel(axes, width, depth, tw, self.cfg)
+        self.model = CoreModel(axes, width, depth, tw, div, move_depth, profile_depth,
+                               self.cfg)
         self.checkers = [StepDirChecker(c, f"axis {k}") for k, c in enumerate(self.cfg)]
         self.rng = random.Random(seed)
         self.check = check
         self.cycle = 0
-        self.override = 100
+        self.override = 128
         self.override_schedule: dict[int, int] = {}
         self.abort_schedule: set[int] = set()     # cycles with abort high
+        self.hold_schedule: set[int] = set()      # cycles with hold high
+        self.stop_schedule: set[int] = set()      # cycles with stop high
+        self.speeds: list[int] = []               # the speed register, every cycle
         self.trace: list[tuple] = []       # positions after every move
         self.max_level = 0
         self.errors: list[tuple[int, int]] = []   # (cycle, code)
@@ -68,6 +73,8 @@ class CoreBench:
         d.cfg_dir_inv.value = sum(c.dir_inv << k for k, c in enumerate(self.cfg))
         d.feed_override.value = self.override
         d.abort_now.value = 0
+        d.hold.value = 0
+        d.stop.value = 0
 
     def _read(self) -> dict:
         d = self.dut
@@ -80,6 +87,7 @@ class CoreBench:
             "pos": tuple(pos), "step_pins": int(d.step_pin.value),
             "dir_pins": int(d.dir_pin.value), "err": int(d.err.value),
             "err_code": int(d.err_code.value), "underrun": int(d.underrun.value),
+            "dry": int(d.dry.value), "speed": int(d.speed.value),
         }
 
     async def start(self, pause_prob: float = 0.0) -> None:
@@ -124,13 +132,18 @@ class CoreBench:
             if self.cycle in self.override_schedule:
                 self.override = self.override_schedule[self.cycle]
                 d.feed_override.value = self.override
+            self.speeds.append(got["speed"])
             abort = int(self.cycle in self.abort_schedule)
+            hold = int(self.cycle in self.hold_schedule)
+            stop = int(self.cycle in self.stop_schedule)
             d.abort_now.value = abort
+            d.hold.value = hold
+            d.stop.value = stop
             inp = CoreInputs(
                 tvalid=int(d.s_axis_tvalid.value),
                 tdata=int(d.s_axis_tdata.value) if int(d.s_axis_tvalid.value) else 0,
                 override=self.override,
-                abort=abort,
+                abort=abort, hold=hold, stop=stop,
             )
             self.model.clock(inp)
             self.cycle += 1

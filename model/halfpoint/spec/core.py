@@ -1,63 +1,88 @@
 # SPDX-License-Identifier: Apache-2.0
 """Cycle-accurate model of the motion core ``rtl/halfpoint_core.v``.
 
-Data path, clock by clock:
+Data path, clock by clock (issue 13: the interpolators decoupled from the pacing):
 
-  AXI4-Stream commands -> queue (DEPTH) -> dispatcher -> arc unit (X, Y)
-                                                      -> line unit (NA axes)
-  feed-rate generator + step/dir generators decide `go`; the running unit
-  makes its move on `go`; positions and STEP/DIR pins follow.
+  AXI4-Stream commands -> queue (DEPTH) -> dispatcher -> arc unit (X, Y)  -+-> move queue
+                                                      -> line unit (NA)   -+   (MOVE_DEPTH)
+      profile in force ---------------- on a segment's start -> profile queue (PROFILE_DEPTH)
+  move queue head + profile queue head -> profile stage (``spec.profile``) -> pop ->
+  STEP/DIR generators and positions
 
-* Queue: takes a beat when tvalid & tready, tready = queue not full.
+* Queue: takes a beat when tvalid & tready, tready = queue not full, abort_now low
+  and not (stop high with the profile stage at rest).
 * Dispatcher: at most one command *in flight* (handed to a unit and not yet
   started or rejected), so the two units run segments in program order.  It
-  decodes the queue head: a bad opcode, reserved bits or a field that does
-  not fit W is rejected at once (popped, error code, no motion); a line with
-  all deltas zero is dropped as a no-op; otherwise the head goes to its unit
-  (popped when the unit takes it).  The in-flight flag clears on the edge
-  where the unit starts the segment, or one clock after the unit's reject
-  pulse.
-* Sequencing: a unit may start its pending segment when the other unit is
-  idle or making its last move at this edge, so a segment boundary costs no
-  clock when the next segment has been validated in time.
-* Feed: a credit accumulator gains rate x k per clock (k in {0, 1, 2} from
-  the feed override: an accumulator of `override` percent per clock, k = how
-  many hundreds it passes; the override is registered, so a change takes
-  effect one clock later); a move needs credit >= its cost, 2^24 for a move
-  of one axis or a line iteration, round(sqrt(2) 2^24) for a diagonal arc
-  move, and spends it.  Credit is capped at 2^26 and does not grow while no
-  segment runs.
-* STEP/DIR: every axis the next move steps must be ready for its direction;
-  otherwise the move waits (held back, never dropped).
-* Underrun: a segment with CONT set ended and no segment started at that edge.
+  decodes the queue head: a bad opcode, reserved bits or a field that does not fit
+  W is rejected at once (popped, error code, no motion); a line with all deltas
+  zero is dropped as a no-op; a PROFILE becomes the profile in force (a bad one is
+  rejected, E_PROFILE_FIELD, and forgets the profile in force); a motion command
+  with no profile in force, or an arc under a line's profile (line cost not 0) or
+  a line under an arc's, is rejected (E_PROFILE); otherwise the head goes to its
+  unit (popped when the unit takes it).  The in-flight flag clears on the edge
+  where the unit starts the segment, or one clock after the unit's reject pulse.
+* Profiles: a motion command is handed to its unit only while the profile queue
+  has room (its count before the edge); once the unit has validated it (it waits
+  in the unit's pending slot), its profile (the one in force: nothing can change it
+  while a command is in flight) and CONT flag enter the profile queue, so the
+  profile stage knows the next segment is coming as soon as it is known to be
+  good, long before its first move (an arc the validator rejects never enters).
+* Interpolators: a unit may start its pending segment when the other unit is idle
+  or making its last move at this edge.  The running unit makes a move on every edge at which the move queue
+  has room (its count before the edge, so the interpolators never wait for the
+  pacing in the same clock); the move enters the queue with its steps, its cost
+  class (axis move, diagonal arc move, line iteration) and whether it is its
+  segment's last.
+* Profile stage (``spec.profile.ProfileStage``, the one definition of the pacing):
+  pops the head move when its credit covers the move's cost and every axis the
+  move steps is ready for its direction (the STEP/DIR generators); takes the next
+  profile when the current segment's last move pops (or when none is current).
+  ``hold`` decelerates to rest and waits; ``stop`` decelerates to rest and then
+  (every edge at rest while it is high) drops everything not yet moved, like
+  abort_now; ``feed_override`` (1/128, 0..128) scales the cruise speed, its changes
+  ramping at the segment's acceleration.
+* STEP/DIR: a popped move requests a step on every axis it steps; positions count
+  them.
+* Underrun: a segment with CONT set made its last move and no next profile was
+  taken at that edge.  ``dry`` (sticky): the profile stage had to decelerate for a
+  dry queue (see ``spec.profile``).
 """
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
 from . import encoding as enc
+from . import profile as pf
 from .arc import MOVE_A, V_HOLD, ArcInputs, ArcUnitModel
 from .line import L_HOLD, LineInputs, LineUnitModel
 from .rules import fits, wrap
 from .stepgen import StepCfg, StepGenModel, StepInputs
 
-COST_AXIS = enc.RATE_ONE
-COST_DIAG = round(math.sqrt(2) * enc.RATE_ONE)
-CREDIT_CAP = 1 << 26
-OVERRIDE_MAX = 200
-
 ARC_ERR_MAP = {1: enc.E_ARC_RADIUS, 2: enc.E_ARC_RANGE, 3: enc.E_ARC_END}
 
 
+def profile_fields_ok(p: pf.ProfileParams, width: int) -> bool:
+    """The core's rules for a PROFILE's fields (else E_PROFILE_FIELD)."""
+    top = 1 << pf.distance_bits(width)
+    return (p.accel != 0 and p.v_exit <= p.v_cruise and p.d_stop <= p.d_exit
+            and p.d_exit < top)
+
+
 def decode_for_core(cmd: int, axes: int, width: int):
-    """('err', code) | ('nop',) | ('line', deltas, rate, cont) |
-    ('arc', (cw, xs, ys, xe, ye), rate, cont): what the dispatcher does."""
+    """('err', code) | ('nop',) | ('profile', ProfileParams) | ('line', deltas, cont) |
+    ('arc', (cw, xs, ys, xe, ye), cont): what the dispatcher does with the head
+    (the profile rules that depend on the profile in force: ``dispatch``)."""
     d = enc.decode(cmd)
     op = d["opcode"]
-    if op not in (enc.OP_LINE, enc.OP_ARC_CW, enc.OP_ARC_CCW) or not d["reserved_ok"]:
+    if op not in (enc.OP_LINE, enc.OP_ARC_CW, enc.OP_ARC_CCW, enc.OP_PROFILE) \
+            or not d["reserved_ok"]:
         return ("err", enc.E_OPCODE)
+    if op == enc.OP_PROFILE:
+        params = pf.ProfileParams(*(d[name] for name, _, _ in enc.PROFILE_FIELDS))
+        if not profile_fields_ok(params, width):
+            return ("err", enc.E_PROFILE_FIELD)
+        return ("profile", params)
     if op == enc.OP_LINE:
         deltas = d["deltas"]
         if any(deltas[axes:]):
@@ -67,21 +92,40 @@ def decode_for_core(cmd: int, axes: int, width: int):
             return ("err", enc.E_FIELD)
         if not any(deltas):
             return ("nop",)
-        return ("line", tuple(deltas), d["rate"], d["cont"])
+        return ("line", tuple(deltas), d["cont"])
     xs, ys = -d["i"], -d["j"]
     xe, ye = d["x"] - d["i"], d["y"] - d["j"]
     if not all(fits(v, width) for v in (d["i"], d["j"], d["x"], d["y"], xs, ys, xe, ye)):
         return ("err", enc.E_FIELD)
-    return ("arc", (d["cw"], xs, ys, xe, ye), d["rate"], d["cont"])
+    return ("arc", (d["cw"], xs, ys, xe, ye), d["cont"])
+
+
+def dispatch(dec, profile):
+    """The dispatcher's rule on a decoded head and the profile in force: returns
+    (what happens, the profile in force after it).  What happens is dec itself for
+    a motion command that may run, ('err', code) for a reject, ('nop',) for a no-op
+    or an accepted PROFILE."""
+    kind = dec[0]
+    if kind == "err":
+        return dec, (None if dec[1] == enc.E_PROFILE_FIELD else profile)
+    if kind == "nop":
+        return dec, profile
+    if kind == "profile":
+        return ("nop",), dec[1]
+    if profile is None or (kind == "arc") != (profile.line_cost == 0):
+        return ("err", enc.E_PROFILE), profile
+    return dec, profile
 
 
 @dataclass
 class CoreInputs:
     tvalid: int = 0
     tdata: int = 0
-    override: int = 100
+    override: int = pf.OVERRIDE_ONE
     rst: int = 0
     abort: int = 0
+    hold: int = 0
+    stop: int = 0
 
 
 @dataclass
@@ -96,6 +140,8 @@ class CoreOutputs:
     err: int
     err_code: int
     underrun: int
+    dry: int
+    speed: int
 
 
 @dataclass
@@ -107,18 +153,16 @@ class HeadView:
     pop: bool = False               # the head leaves the queue at this edge
     err_code: int = 0               # reject reported at this edge (decode or unit)
     inflight_clear: bool = False    # a unit's reject pulse ends the command in flight
+    profile: pf.ProfileParams | None = None     # the profile in force after this edge
 
 
 @dataclass
-class MoveView:
-    """Feed and STEP/DIR readiness, combinational: the move of this cycle."""
+class QueuedMove:
+    """An entry of the move queue."""
 
-    unit: str | None = None         # the unit in its run stage
-    steps: list = field(default_factory=list)   # signed step per axis of its next move
-    cost: int = COST_AXIS           # credit the move needs
-    go: bool = False                # the move is made at this edge
-    rate: int = 0                   # rate of the running segment
-    cont: bool = False              # CONT of the running segment
+    steps: tuple                    # signed step per axis
+    cost_class: int                 # profile.CLASS_AXIS / CLASS_DIAG / CLASS_LINE
+    last: bool                      # the segment's last move
 
 
 @dataclass
@@ -127,16 +171,19 @@ class CoreModel:
 
     :meth:`outputs` gives what the RTL shows during the current cycle;
     :meth:`clock` applies one rising edge.  ``clock`` first computes the two
-    combinational views every section reads (the dispatcher's view of the
-    queue head, and the move the feed and STEP/DIR readiness allow), then
-    clocks the sections in the RTL's order: queue, dispatcher, units, feed,
-    STEP/DIR generators and positions, status.
+    combinational views every section reads (the dispatcher's view of the queue
+    head, and the profile stage's view of the move queue head), then clocks the
+    sections in the RTL's order: queue, dispatcher, units and move queue, profile
+    queue and stage, STEP/DIR generators and positions, status.
     """
 
     axes: int = 3
     width: int = 32
     depth: int = 16
     tw: int = 16
+    div: int = 12                   # profile tick 2^div clocks
+    move_depth: int = 4
+    profile_depth: int = 2
     cfg: list = field(default_factory=list)     # StepCfg per axis
 
     def __post_init__(self) -> None:
@@ -144,6 +191,10 @@ class CoreModel:
             raise ValueError("the core has 2..6 axes (arcs use axes 0 and 1)")
         if self.depth < 2 or self.depth & (self.depth - 1):
             raise ValueError("queue depth must be a power of two >= 2")
+        if not 2 <= self.move_depth <= 16:
+            raise ValueError("the move queue has 2..16 entries")
+        if not 1 <= self.profile_depth <= 8:
+            raise ValueError("the profile queue has 1..8 entries")
         if not self.cfg:
             self.cfg = [StepCfg() for _ in range(self.axes)]
         self.reset()
@@ -151,32 +202,38 @@ class CoreModel:
     def reset(self) -> None:
         self.queue: list[int] = []
         self.inflight: str | None = None
+        self.profile: pf.ProfileParams | None = None    # the profile in force
+        self.pend_cont = False                          # CONT of the command in flight
+        self.accepted = False               # its profile entered the profile queue
         self.arc = ArcUnitModel(self.width)
         self.line = LineUnitModel(self.axes, self.width)
-        self.pend = {"arc": (0, False), "line": (0, False)}    # (rate, cont) handed over
-        self.act = {"arc": (0, False), "line": (0, False)}     # of the running segment
-        self.credit = 0
-        self.ov_acc = 0
-        self.ov_in = 0              # the override input, clamped, registered
+        self.moves: list[QueuedMove] = []               # the move queue
+        self.profiles: list[tuple] = []                 # the profile queue: (params, cont)
+        self.stage = pf.ProfileStage(self.div, self.width)
+        self.stage_cont = False                         # CONT of the stage's segment
         self.stepgens = [StepGenModel(self.tw) for _ in range(self.axes)]
         self.pos = [0] * self.axes
         self.o_move = 0
         self.o_err = 0
         self.o_err_code = 0
         self.o_underrun = 0
-        self.abort_pin = 0          # abort as last driven: tready depends on it
+        self.abort_pin = 0          # abort and stop as last driven: tready depends on them
+        self.stop_pin = 0
 
-    def move_cost(self, diagonal: bool) -> int:
-        """Credit a move needs: a diagonal arc move is sqrt(2) times as long."""
-        return COST_DIAG if diagonal else COST_AXIS
-
-    def _abort(self) -> None:
-        """An edge with abort high: no move, everything not yet moved dropped."""
+    def _flush(self, i: CoreInputs, stage_in: pf.ProfileInputs | None = None) -> None:
+        """An edge with abort high, or stop high at rest (``stage_in``: the stage's
+        inputs, it drops its segment itself): no move, everything not yet moved
+        dropped, the profile in force forgotten."""
         self.queue.clear()
         self.inflight = None
+        self.accepted = False
+        self.profile = None
         self.arc.clock(ArcInputs(abort=1))
         self.line.clock(LineInputs(s_delta=(0,) * self.axes, abort=1))
-        self.credit = 0
+        self.moves.clear()
+        self.profiles.clear()
+        self.stage_cont = False
+        self.stage.clock(stage_in or pf.ProfileInputs(abort=1, override=i.override))
         for sg, c in zip(self.stepgens, self.cfg):
             sg.clock(c, StepInputs())
         self.o_move = 0
@@ -190,12 +247,19 @@ class CoreModel:
             return "line"
         return None
 
-    def _peek(self, unit: str):
-        """(signed steps per axis, diagonal) of the running unit's next move."""
+    def _peek(self, unit: str) -> tuple[tuple, int]:
+        """(signed steps per axis, cost class) of the running unit's next move."""
         if unit == "arc":
             kind, dx, dy = self.arc.run.peek()
-            return [dx, dy] + [0] * (self.axes - 2), kind == MOVE_A
-        return list(self.line.run.peek()), False
+            cls = pf.CLASS_DIAG if kind == MOVE_A else pf.CLASS_AXIS
+            return (dx, dy) + (0,) * (self.axes - 2), cls
+        return tuple(self.line.run.peek()), pf.CLASS_LINE
+
+    def _ready(self, steps) -> bool:
+        """Every axis ``steps`` steps is ready for its direction."""
+        return all(
+            s == 0 or (sg.outputs(c).ready_pos if s > 0 else sg.outputs(c).ready_neg)
+            for s, sg, c in zip(steps, self.stepgens, self.cfg))
 
     def outputs(self) -> CoreOutputs:
         step_pins = dir_pins = 0
@@ -203,23 +267,27 @@ class CoreModel:
             o = sg.outputs(c)
             step_pins |= o.step_pin << k
             dir_pins |= o.dir_pin << k
+        so = self.stage.outputs()
         busy = bool(self.queue) or self.inflight is not None \
             or self.arc.outputs().busy or self.line.outputs().busy \
+            or bool(self.moves) or bool(self.profiles) or bool(so.busy) \
             or any(sg.state != 0 for sg in self.stepgens)
+        at_rest_stop = self.stop_pin and so.v == 0
         return CoreOutputs(
-            tready=int(len(self.queue) < self.depth and not self.abort_pin), busy=int(busy),
-            level=len(self.queue), move=self.o_move, pos=tuple(self.pos),
+            tready=int(len(self.queue) < self.depth and not self.abort_pin
+                       and not at_rest_stop),
+            busy=int(busy), level=len(self.queue), move=self.o_move, pos=tuple(self.pos),
             step_pins=step_pins, dir_pins=dir_pins, err=self.o_err,
-            err_code=self.o_err_code, underrun=self.o_underrun,
-        )
+            err_code=self.o_err_code, underrun=self.o_underrun, dry=so.dry, speed=so.v)
 
     # -- combinational views ------------------------------------------
     def head_view(self) -> HeadView:
-        """Dispatcher: decode the queue head (when nothing is in flight) and
-        see which unit takes it; the units' reject pulses of this cycle."""
-        h = HeadView()
+        """Dispatcher: decode the queue head (when nothing is in flight), apply the
+        profile rules and see which unit takes it; the units' reject pulses."""
+        h = HeadView(profile=self.profile)
         if self.inflight is None and self.queue:
-            dec = decode_for_core(self.queue[0], self.axes, self.width)
+            dec, h.profile = dispatch(decode_for_core(self.queue[0], self.axes, self.width),
+                                      self.profile)
             if dec[0] == "err":
                 h.pop, h.err_code = True, dec[1]
             elif dec[0] == "nop":
@@ -227,7 +295,7 @@ class CoreModel:
             else:
                 h.cmd = dec
                 unit = self.arc if dec[0] == "arc" else self.line
-                if unit.outputs().s_ready:
+                if unit.outputs().s_ready and len(self.profiles) < self.profile_depth:
                     h.take, h.pop = dec[0], True
         arc_o, line_o = self.arc.outputs(), self.line.outputs()
         if arc_o.reject:
@@ -237,42 +305,42 @@ class CoreModel:
         h.inflight_clear = bool(arc_o.reject or line_o.reject)
         return h
 
-    def move_view(self) -> MoveView:
-        """go: the running unit's next move is made when every axis it steps
-        is ready for its direction and the credit covers its cost."""
-        m = MoveView(steps=[0] * self.axes)
-        m.unit = self._running()
-        if m.unit is None:
-            return m
-        m.rate, m.cont = self.act[m.unit]
-        m.steps, diagonal = self._peek(m.unit)
-        m.cost = self.move_cost(diagonal)
-        ready = all(
-            s == 0 or (sg.outputs(c).ready_pos if s > 0 else sg.outputs(c).ready_neg)
-            for s, sg, c in zip(m.steps, self.stepgens, self.cfg)
-        )
-        m.go = ready and self.credit >= m.cost
-        return m
+    def stage_inputs(self, i: CoreInputs) -> pf.ProfileInputs:
+        """The profile stage's inputs: the move queue's head and the profile queue's."""
+        inp = pf.ProfileInputs(hold=i.hold, stop=i.stop, override=i.override)
+        if self.moves:
+            head = self.moves[0]
+            inp.head_valid, inp.head_class, inp.head_last = 1, head.cost_class, int(head.last)
+            inp.ready = int(self._ready(head.steps))
+        if self.profiles:
+            inp.next_valid, inp.next_profile = 1, self.profiles[0][0]
+        return inp
 
     # -- the edge, section by section -----------------------------------
-    def clock(self, i: CoreInputs) -> None:
+    def clock(self, i: CoreInputs) -> pf.ProfileView | None:
+        """One rising edge; returns the profile stage's view of the clock (None on
+        reset and flush edges)."""
         if i.rst:
             self.reset()
-            return
-        self.abort_pin = i.abort
-        override = min(i.override, OVERRIDE_MAX)
+            return None
+        self.abort_pin, self.stop_pin = i.abort, i.stop
         if i.abort:
-            self.ov_in = override
-            self._abort()
-            return
+            self._flush(i)
+            return None
+        sin = self.stage_inputs(i)
+        w = self.stage.view(sin)
+        if w.stopped:
+            self._flush(i, sin)
+            return None
         head = self.head_view()
-        move = self.move_view()
         self._clock_queue(i, head)
-        self._clock_dispatcher(head)
-        ending, loading = self._clock_units(head, move)
-        self._clock_feed(move, override)
-        self._clock_stepgens(move)
-        self._clock_status(head, move, ending, loading)
+        loading, push = self._clock_units(head)
+        popped = self.moves[0] if w.pop else None
+        self._clock_move_queue(w, push)
+        self._clock_stage(sin, w, loading)
+        self._clock_stepgens(popped)
+        self._clock_status(head, popped, w)
+        return w
 
     def _clock_queue(self, i: CoreInputs, head: HeadView) -> None:
         """Pop the head if it left; push a beat (tready from the level before the edge)."""
@@ -281,23 +349,29 @@ class CoreModel:
             self.queue.pop(0)
         if push:
             self.queue.append(i.tdata)
-
-    def _clock_dispatcher(self, head: HeadView) -> None:
-        """The command handed to a unit is in flight; its rate and CONT wait
-        beside the unit until the segment starts."""
+        self.profile = head.profile
         if head.take is not None:
             self.inflight = head.take
-            self.pend[head.take] = (head.cmd[2], head.cmd[3])
+            self.pend_cont = head.cmd[2]
 
-    def _clock_units(self, head: HeadView, move: MoveView) -> tuple[bool, str | None]:
-        """Clock both units, the running one first: its last move at this edge
-        lets the other start its pending segment on the same edge.  Returns
-        (the running segment ended, the unit that loaded a segment)."""
+    def _clock_units(self, head: HeadView) -> tuple[str | None, QueuedMove | None]:
+        """Clock both units, the running one first: its last move at this edge lets
+        the other start its pending segment on the same edge.  Returns (the unit that
+        started a segment, the move made at this edge)."""
+        running = self._running()
+        produce = len(self.moves) < self.move_depth
+        # the command in flight validated (waiting in its unit's pending slot): its
+        # profile enters the profile queue (there is room: taken only with room)
+        accept = not self.accepted and (self.arc.vstate == V_HOLD or self.line.vstate == L_HOLD)
+        move = None
+        if running is not None and produce:
+            steps, cls = self._peek(running)
+            move = QueuedMove(steps, cls, False)
         ending = False
         loading = None
-        order = ["arc", "line"] if move.unit != "line" else ["line", "arc"]
+        order = ["arc", "line"] if running != "line" else ["line", "arc"]
         for u in order:
-            other_idle_or_ending = (move.unit is None) or (move.unit == u) or ending
+            other_idle_or_ending = (running is None) or (running == u) or ending
             offer = head.take == u
             if u == "arc":
                 model, hold = self.arc, V_HOLD
@@ -310,47 +384,55 @@ class CoreModel:
                 model, hold = self.line, L_HOLD
                 inp = LineInputs(s_valid=1, s_delta=head.cmd[1]) if offer \
                     else LineInputs(s_delta=(0,) * self.axes)
-            inp.en = int(move.go and move.unit == u)
+            inp.en = int(produce and running == u)
             inp.start_en = int(other_idle_or_ending)
             holding = model.vstate == hold
             model.clock(inp)
-            if move.unit == u and model.outputs().done:
+            if running == u and move is not None and model.outputs().done:
                 ending = True
+                move.last = True
             if holding and model.vstate != hold:
                 loading = u
+        if accept:
+            self.profiles.append((self.profile, self.pend_cont))
+            self.accepted = True
         if loading is not None:
-            self.act[loading] = self.pend[loading]
+            self.accepted = False
             if self.inflight == loading:
                 self.inflight = None
         if head.inflight_clear:
             self.inflight = None
-        return ending, loading
+        return loading, move
 
-    def _clock_feed(self, move: MoveView, override: int) -> None:
-        """Credit += rate x k - cost of the move made; k from the registered
-        override (k computed a clock ahead in the RTL, the same here)."""
-        ov = self.ov_in
-        self.ov_in = override
-        s = self.ov_acc + ov
-        k = 2 if s >= 200 else 1 if s >= 100 else 0
-        self.ov_acc = s - 100 * k
-        credit = self.credit + move.rate * k - (move.cost if move.go else 0)
-        self.credit = min(credit, CREDIT_CAP)
+    def _clock_move_queue(self, w: pf.ProfileView, push: QueuedMove | None) -> None:
+        if w.pop:
+            self.moves.pop(0)
+        if push is not None:
+            self.moves.append(push)
 
-    def _clock_stepgens(self, move: MoveView) -> None:
-        """A step request to every axis the move steps; positions follow."""
+    def _clock_stage(self, sin: pf.ProfileInputs, w: pf.ProfileView,
+                     loading: str | None) -> None:
+        """The profile stage's edge; the profile queue pops on ``take`` (the segment
+        that started at this edge is pushed behind)."""
+        ended = w.pop and sin.head_last
+        self.o_underrun |= int(ended and self.stage_cont and not w.take)
+        self.stage.clock(sin)
+        if w.take:
+            _, self.stage_cont = self.profiles.pop(0)
+        elif ended:
+            self.stage_cont = False
+
+    def _clock_stepgens(self, popped: QueuedMove | None) -> None:
+        """A step request to every axis the popped move steps; positions follow."""
         for axis, (sg, c) in enumerate(zip(self.stepgens, self.cfg)):
-            st = move.steps[axis] if move.go else 0
+            st = popped.steps[axis] if popped is not None else 0
             sg.clock(c, StepInputs(req=int(st != 0), req_dir=int(st > 0)))
             if st:
                 self.pos[axis] = wrap(self.pos[axis] + st, self.width)
-        self.o_move = int(move.go)
+        self.o_move = int(popped is not None)
 
-    def _clock_status(self, head: HeadView, move: MoveView, ending: bool,
-                      loading: str | None) -> None:
-        """err / err_code; underrun: a CONT segment ended and nothing started."""
-        if ending and move.cont and loading is None:
-            self.o_underrun = 1
+    def _clock_status(self, head: HeadView, popped, w) -> None:
+        """err / err_code."""
         self.o_err = int(head.err_code != 0)
         if head.err_code:
             self.o_err_code = head.err_code
@@ -363,13 +445,15 @@ class ProgramRun:
     errors: list[int]           # err_code of every rejected command
 
 
-def run_program(model: CoreModel, cmds) -> ProgramRun:
+def run_program(model: CoreModel, cmds, max_clocks: int = 50_000_000) -> ProgramRun:
     """Reset ``model`` and stream ``cmds`` into it back to back (the queue kept
     as full as tready allows) until the core is idle again."""
     model.clock(CoreInputs(rst=1))
     run = ProgramRun([], [], [])
     idx, cyc, idle = 0, 0, 0
     while idx < len(cmds) or idle < 4:
+        if cyc >= max_clocks:
+            raise RuntimeError(f"the core is still busy after {max_clocks} clocks")
         o = model.outputs()
         if o.move:
             run.times.append(cyc)

@@ -10,17 +10,42 @@ word  LINE                            ARC (XY plane)
 0     opcode (bits 3:0) = 1           opcode = 2 (CW, G2) or 3 (CCW, G3)
       bit 8: CONT, more segments of   bit 8: CONT
       this program follow
-1     rate: BLU per clock x 2^24      rate: BLU of path per clock x 2^24
-      (unsigned; 2^24 = 1 move/clock)
+1     0 (reserved)                    0 (reserved)
 2..7  delta of axis 0..5 (signed)     2: I, 3: J = centre minus the current
                                       position; 4: X, 5: Y = end minus the
                                       current position (signed); 6, 7: 0
 ====  ==============================  =====================================
 
+PROFILE (opcode 4; word 0 has no flag) sets the velocity profile of the motion
+commands that follow it (``spec.profile.ProfileParams``; the host sends one
+before each motion command, with its planned speeds and distances): the fields
+after word 0, in bits
+
+================  =====  =====  ==============================================
+field             lsb    bits   meaning (``spec.profile``'s fixed point)
+================  =====  =====  ==============================================
+v_cruise           32     32    cruise (peak) path speed, BLU per clock x 2^32
+v_exit             64     32    exit speed, <= v_cruise; 0 = stop at the end
+accel              96     34    speed step per tick (2^DIV clocks),
+                                BLU per clock x 2^38, > 0
+line_cost         130     18    one line iteration's length, BLU x 2^16; 0
+                                for arcs, > 0 for lines
+d_exit            148     54    decelerate to v_exit from this distance into
+                                the segment, BLU x 2^16, < 2^(W + 19)
+d_stop            202     54    decelerate to rest from here if the next
+                                segment is not there yet (dry queue), <= d_exit
+================  =====  =====  ==============================================
+
 All other bits are reserved and must be zero.  Deltas and coordinates are
-BLU, relative to the current position (like G91 with G91.1).  The RTL decodes
-these fields in ``rtl/halfpoint_core.v``; the tests and the host encoder use
-this module, and a test checks both against each other.
+BLU, relative to the current position (like G91 with G91.1).  A PROFILE stays
+in force until the next one (so a stream of constant-speed segments needs one),
+and is forgotten at reset, abort and stop: a motion command with no profile in
+force, an arc under a profile with a line cost, or a line under one without, is
+rejected (E_PROFILE), as is a PROFILE whose fields break the rules above
+(E_PROFILE_FIELD; the profile in force is then forgotten too, so the commands
+meant to run under the bad one are rejected, never run under an older one).
+The RTL decodes through ``rtl/halfpoint_cmd.vh``, generated from this module
+(``flows/hdlgen.py``); the tests and the host encoder use this module.
 """
 
 from __future__ import annotations
@@ -32,11 +57,9 @@ MAX_AXES = 6
 OP_LINE = 1
 OP_ARC_CW = 2
 OP_ARC_CCW = 3
+OP_PROFILE = 4
 FLAG_CONT = 1 << 8
 OPCODE_MASK = 0xF
-
-RATE_FRAC_BITS = 24
-RATE_ONE = 1 << RATE_FRAC_BITS          # 1 BLU per clock
 
 # error codes of the core (err_code output, ERR_CODE_BITS wide; also bits 3:0 of
 # the serial port's acknowledge byte)
@@ -47,6 +70,8 @@ E_FIELD = 2         # a coordinate does not fit the core's width
 E_ARC_RADIUS = 3    # arc: radius zero
 E_ARC_RANGE = 4     # arc: circle does not fit the width
 E_ARC_END = 5       # arc: end point off the circle
+E_PROFILE = 6       # motion with no profile in force, or of the wrong kind
+E_PROFILE_FIELD = 7     # a PROFILE's fields break the rules
 
 ERR_TEXT = {
     E_NONE: "ok",
@@ -55,7 +80,20 @@ ERR_TEXT = {
     E_ARC_RADIUS: "arc radius is zero",
     E_ARC_RANGE: "arc circle does not fit the coordinate width",
     E_ARC_END: "arc end point is off the circle",
+    E_PROFILE: "no profile in force for this motion, or one of the other kind",
+    E_PROFILE_FIELD: "profile fields break the rules (v_exit, accel, d_stop, d_exit)",
 }
+
+# PROFILE fields: (name, lsb, bits), in order
+PROFILE_FIELDS = (
+    ("v_cruise", 32, 32),
+    ("v_exit", 64, 32),
+    ("accel", 96, 34),
+    ("line_cost", 130, 18),
+    ("d_exit", 148, 54),
+    ("d_stop", 202, 54),
+)
+PROFILE_DISTANCE_EXTRA = 19     # d_exit, d_stop < 2^(W + 19) for a core of width W
 
 
 def _u32(v: int) -> int:
@@ -79,34 +117,48 @@ def unpack(cmd: int) -> list[int]:
     return [(cmd >> (32 * k)) & 0xFFFFFFFF for k in range(CMD_WORDS)]
 
 
-def encode_line(deltas, rate: int = RATE_ONE, cont: bool = False) -> int:
+def encode_line(deltas, cont: bool = False) -> int:
     deltas = list(deltas)
     if not 1 <= len(deltas) <= MAX_AXES:
         raise ValueError(f"a line has 1..{MAX_AXES} deltas, got {len(deltas)}")
-    if not 0 <= rate < (1 << 32):
-        raise ValueError(f"rate {rate} does not fit 32 bits unsigned")
-    words = [OP_LINE | (FLAG_CONT if cont else 0), rate] + deltas
+    words = [OP_LINE | (FLAG_CONT if cont else 0), 0] + deltas
     return pack(words + [0] * (CMD_WORDS - len(words)))
 
 
-def encode_arc(cw: int, i: int, j: int, x: int, y: int, rate: int = RATE_ONE,
-               cont: bool = False) -> int:
-    if not 0 <= rate < (1 << 32):
-        raise ValueError(f"rate {rate} does not fit 32 bits unsigned")
+def encode_arc(cw: int, i: int, j: int, x: int, y: int, cont: bool = False) -> int:
     op = OP_ARC_CW if cw else OP_ARC_CCW
-    return pack([op | (FLAG_CONT if cont else 0), rate, i, j, x, y, 0, 0])
+    return pack([op | (FLAG_CONT if cont else 0), 0, i, j, x, y, 0, 0])
+
+
+def encode_profile(v_cruise: int, v_exit: int, accel: int, line_cost: int = 0,
+                   d_exit: int = 0, d_stop: int = 0) -> int:
+    """A PROFILE command (the fields of ``spec.profile.ProfileParams``, in that order;
+    ``encode_profile(*dataclasses.astuple(params))``).  Only the field widths are
+    checked here: the core checks the rules (E_PROFILE_FIELD)."""
+    out = OP_PROFILE
+    for (name, lsb, bits), value in zip(PROFILE_FIELDS,
+                                        (v_cruise, v_exit, accel, line_cost, d_exit, d_stop)):
+        if not 0 <= value < 1 << bits:
+            raise ValueError(f"profile {name} {value} does not fit {bits} bits unsigned")
+        out |= value << lsb
+    return out
 
 
 def decode(cmd: int) -> dict:
     """Fields of a command word (for tests and tools)."""
     w = unpack(cmd)
     op = w[0] & OPCODE_MASK
-    d = {"opcode": op, "cont": bool(w[0] & FLAG_CONT), "rate": w[1],
-         "reserved_ok": (w[0] & ~(OPCODE_MASK | FLAG_CONT)) == 0}
+    d = {"opcode": op, "cont": bool(w[0] & FLAG_CONT),
+         "reserved_ok": (w[0] & ~(OPCODE_MASK | FLAG_CONT)) == 0 and w[1] == 0}
     if op == OP_LINE:
         d["deltas"] = [_s32(v) for v in w[2:2 + MAX_AXES]]
     elif op in (OP_ARC_CW, OP_ARC_CCW):
         d["cw"] = int(op == OP_ARC_CW)
         d["i"], d["j"], d["x"], d["y"] = (_s32(v) for v in w[2:6])
         d["reserved_ok"] = d["reserved_ok"] and w[6] == 0 and w[7] == 0
+    elif op == OP_PROFILE:
+        d["cont"] = False
+        d["reserved_ok"] = (w[0] & ~OPCODE_MASK) == 0
+        for name, lsb, bits in PROFILE_FIELDS:
+            d[name] = (cmd >> lsb) & ((1 << bits) - 1)
     return d
