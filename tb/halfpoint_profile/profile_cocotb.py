@@ -94,17 +94,27 @@ def planned_program(rng) -> Program:
     with their line cost, random lengths, speeds and accelerations; ramps of 6 to 40
     speed steps."""
     count = rng.randint(1, 4)
+    # round numbers (powers of two): the credit then lands exactly on a move's cost
+    # often, which tells credit >= cost from credit > cost
+    round_numbers = rng.random() < 0.3
     lengths, moves, cruise, exits, accels, costs = [], [], [], [], [], []
     for k in range(count):
         line = rng.random() < 0.5
         cost = rng.randint(COST_AXIS // 2, 3 * COST_AXIS) if line else 0
+        if round_numbers:
+            cost = COST_AXIS << rng.randint(0, 1) if line else 0
+            cruise.append(1 << rng.randint(28, 31))
+            exit_speed = cruise[-1] >> rng.randint(1, 3)
+            accels.append((cruise[-1] << 6) >> rng.randint(4, 6))
+        else:
+            cruise.append(rng.randint(1 << 28, 1 << 31))
+            exit_speed = rng.randint(0, 1 << 30)
+            accels.append(min((cruise[-1] << 6) // rng.randint(6, 40), (1 << 34) - 1))
         m = moves_of(rng, line, rng.randint(3, 40))
         moves.append(m)
         costs.append(cost)
         lengths.append(length_of(m, cost))
-        cruise.append(rng.randint(1 << 28, 1 << 31))
-        exits.append(0 if k == count - 1 else rng.choice((0, rng.randint(0, 1 << 30))))
-        accels.append(min((cruise[-1] << 6) // rng.randint(6, 40), (1 << 34) - 1))
+        exits.append(0 if k == count - 1 else rng.choice((0, exit_speed)))
     profiles = pf.plan_integer(lengths, cruise, exits, accels, DIV, costs)
     arrival = [0] * count
     return Program("planned", profiles, moves, arrival)
@@ -153,6 +163,21 @@ def raw_program(rng) -> Program:
                              0, 0)
         return Program("raw", [fast, slow], [moves_of(rng, False, rng.randint(30, 60)),
                                              moves_of(rng, False, rng.randint(20, 60))], [0, 0])
+    if kind < 0.55:
+        # fine costs at low speeds: the credit often covers a move exactly (credit
+        # >= cost and credit > cost differ)
+        count = rng.randint(1, 3)
+        profiles, moves = [], []
+        for _ in range(count):
+            cost = rng.randint(1, 64)
+            m = [CLASS_LINE] * rng.randint(20, 80)
+            v_cruise = rng.randint(1 << 16, 1 << 21)
+            d_exit = rng.randint(0, length_of(m, cost))
+            profiles.append(ProfileParams(v_cruise, rng.choice((0, v_cruise >> 1)),
+                                          max(1, (v_cruise << 6) >> rng.randint(1, 4)), cost,
+                                          d_exit, rng.randint(0, d_exit)))
+            moves.append(m)
+        return Program("raw", profiles, moves, [0] * count)
     count = rng.randint(1, 4)
     profiles, moves = [], []
     for _ in range(count):
@@ -352,7 +377,8 @@ class Checker:
     def __init__(self):
         self.clocks = 0
         self.seen = {"pop": 0, "take": 0, "stopped": 0, "holding": 0, "ramp_step": 0,
-                     "dry_start": 0, "left_negative": 0, "capped_start": 0}
+                     "dry_start": 0, "left_negative": 0, "capped_start": 0,
+                     "exact_cover": 0}
 
     @staticmethod
     def _diff(what: str, clock: int, got: dict, want: dict, context: str) -> None:
@@ -374,6 +400,12 @@ class Checker:
         self.seen["ramp_step"] += int(w.ramp_step)
         self.seen["dry_start"] += int(w.ramp_dry)
         self.seen["capped_start"] += int(w.gain < 0)
+
+    def credit(self, model: ProfileStage, inp: ProfileInputs) -> None:
+        """Before the clock: does the credit cover the head move exactly?"""
+        if model.cur is not None and inp.head_valid:
+            cost = pf.move_cost(inp.head_class, model.cur)
+            self.seen["exact_cover"] += int(model.credit >> pf.COST_SHIFT == cost)
 
 
 # --- the loop -------------------------------------------------------------------------------
@@ -416,6 +448,7 @@ class Bench:
             self.driver.drive(inp)
             await ReadOnly()
             got = self.monitor.view()
+            self.checker.credit(self.model, inp)
             w = self.model.clock(inp)
             self.checker.view(self.clock, got, model_view(w), w, context)
             over = self.stim.advance(inp, w, self.model)
@@ -487,4 +520,4 @@ async def raw_profiles(dut):
     bench.report("raw profiles")
     seen = bench.checker.seen
     assert all(seen[k] for k in ("pop", "take", "ramp_step", "left_negative",
-                                 "capped_start"))
+                                 "capped_start", "exact_cover"))
