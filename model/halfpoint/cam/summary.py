@@ -99,7 +99,9 @@ class Summary:
 
     def __str__(self) -> str:
         n = sum(self.moves.values())
-        kinds = ", ".join(f"{v} {k}{'s' if v != 1 else ''}" for k, v in self.moves.items() if v)
+        plural = {"rapid": "rapids", "line": "lines", "arc": "arcs", "helix": "helices"}
+        kinds = ", ".join(f"{v} {k if v == 1 else plural.get(k, k)}"
+                          for k, v in self.moves.items() if v)
         out = [f"blocks: {self.blocks}, moves: {n}" + (f" ({kinds})" if kinds else "")]
         tools = ", ".join(f"T{t} (line {ln})" for t, ln in self.tool_changes) or "none"
         out.append(f"tool changes: {tools}")
