@@ -45,7 +45,9 @@
 //                  table's DIV+40: see below
 //   since_q DIV    clocks since the last speed step, minus 1, saturating at
 //                  2^DIV - 1 (the model's 1 .. 2^DIV)
-//   ov_q 8         the override, 0 .. 128
+//   ov_target_q 38 the model's ov_q (0 .. 128, registered override) as its
+//                  product with the cruise speed, (v_cruise << 6) x ov_q >> 7
+//                  <= v_cruise x 2^6 < 2^38, registered at the same edge
 //
 // ramp_left: the model's table gives DIV+40 bits (> -1 BLU per clock: one
 // clock's gain past a level).  That holds when every level (2^DIV clocks of
@@ -155,7 +157,6 @@ module halfpoint_profile #(
     reg  [DIV-1:0] since_q;         // clocks since the last speed step - 1, saturating
     reg           last_up_q;        // direction of the last speed step
     reg           last_down_q;
-    reg  [7:0]    ov_q;             // override, 0 .. 128
     reg           dry_q;            // sticky: a dry queue forced a deceleration
     reg           ramp_on_q;        // the exit staircase
     reg           ramp_dry_q;
@@ -187,21 +188,40 @@ module halfpoint_profile #(
     assign holding = hold && v_zero && !can_pop && !abort;
 
     // ------------------------------------------------------------------
-    // Credit: + v, - the popped cost, capped at twice the largest cost
+    // Credit: + v, - the popped cost, capped at twice the largest cost.
+    // Both outcomes (the head pops or not) are computed side by side from
+    // the registers and the head's cost; pop_now only selects between them,
+    // so the pop decision does not sit in front of the adders.
     // ------------------------------------------------------------------
-    wire [40:0]   spent = pop_now ? {1'b0, cost, 22'd0} : 41'd0;
     wire [17:0]   largest_cost = (line_cost_q != 18'd0) ? line_cost_q : COST_DIAGONAL;
     wire [40:0]   cap = {largest_cost, 23'd0};
-    // spent <= credit_q (pop needs credit_whole >= cost): no borrow
-    wire [40:0]   credit_rest = credit_q - spent;
-    wire [41:0]   credit_sum = {1'b0, credit_rest} + {4'd0, v_q};    // < 2^41 + 2^38
-    wire          capped = (credit_sum > {1'b0, cap});
-    wire [40:0]   credit_new = capped ? cap : credit_sum[40:0];
-    // the earned distance grows by gain = credit_new - credit_rest: v, or less
-    // when capped; negative only on a segment's first clock (carried credit
-    // above the new cap), > -2^41: 42 bits two's complement
-    wire [41:0]   gain = capped ? ({1'b0, cap} - {1'b0, credit_rest}) : {4'd0, v_q};
+    wire [40:0]   cost_credit = {1'b0, cost, 22'd0};                    // cost x 2^22
+    wire [41:0]   credit_sum = {1'b0, credit_q} + {4'd0, v_q};         // < 2^41 + 2^38
+    wire [41:0]   cap_plus_cost = {1'b0, cap} + {1'b0, cost_credit};   // < 2^42
+    // capped: credit - spent + v > cap, i.e. credit + v > cap + spent
+    wire          capped_keep = (credit_sum > {1'b0, cap});
+    wire          capped_pop = (credit_sum > cap_plus_cost);
+    wire          capped = pop_now ? capped_pop : capped_keep;
+    // credit - cost + v when it pops (spent <= credit_q: a pop needs
+    // credit_whole >= cost); used only uncapped, so below the cap < 2^41
+    wire [40:0]   credit_popped = credit_sum[40:0] - cost_credit;
+    wire [40:0]   credit_new = capped ? cap : (pop_now ? credit_popped : credit_sum[40:0]);
+    // the earned distance grows by gain = credit_new - (credit - spent): v, or
+    // the headroom cap - (credit - spent) when capped; negative only on a
+    // segment's first clock (carried credit above the new cap), > -2^41: 42
+    // bits two's complement
+    wire [41:0]   headroom_keep = {1'b0, cap} - {1'b0, credit_q};
+    wire [41:0]   headroom_pop = cap_plus_cost - {1'b0, credit_q};
+    wire [41:0]   headroom = pop_now ? headroom_pop : headroom_keep;
+    wire [41:0]   gain = capped ? headroom : {4'd0, v_q};
     wire [RW-1:0] gain_wide = {{(RW-42){gain[41]}}, gain};
+    // ramp_left <= gain, each outcome compared on its own
+    wire          left_le_v = ($signed(ramp_left_q) <= $signed({{(RW-38){1'b0}}, v_q}));
+    wire          left_le_keep = ($signed(ramp_left_q)
+                                  <= $signed({{(RW-42){headroom_keep[41]}}, headroom_keep}));
+    wire          left_le_pop = ($signed(ramp_left_q)
+                                 <= $signed({{(RW-42){headroom_pop[41]}}, headroom_pop}));
+    wire          left_le_gain = !capped ? left_le_v : (pop_now ? left_le_pop : left_le_keep);
 
     // earned distance E = s + credit / 2^22 (W + 20 bits: no carry lost)
     wire [DW:0]   earned = {1'b0, s_q} + {{(DW-18){1'b0}}, credit_whole};
@@ -211,31 +231,50 @@ module halfpoint_profile #(
     // ------------------------------------------------------------------
     // Exit staircase (ProfileStage._ramp)
     // ------------------------------------------------------------------
+    // ov_target_q: the override applied to the cruise speed, registered
+    // (see below); every candidate for the staircase's speed is compared
+    // with it side by side
+    reg  [37:0]   ov_target_q;
     wire          exit_nonzero = (v_exit_q != 32'd0);
     wire [37:0]   exit_speed = exit_nonzero ? {v_exit_q, 6'd0} : {4'd0, accel_q};
     wire [37:0]   cruise = {v_cruise_q, 6'd0};
     wire          dry_condition = !next_valid && exit_nonzero;
+    // a step happens only while the staircase runs on (ramp_on_q, and not
+    // returning from the dry mode), where its speed is ramp_v_q and the
+    // floor is the one of ramp_dry_q: the stepped speed comes from registers
+    wire [37:0]   floor_held = ramp_dry_q ? {4'd0, accel_q} : exit_speed;
+    wire [38:0]   ramp_down = {1'b0, ramp_v_q} - {5'd0, accel_q};
+    wire          ramp_below = ramp_down[38] || (ramp_down[37:0] < floor_held);
+    wire [37:0]   ramp_stepped = ramp_below ? floor_held : ramp_down[37:0];
+    wire          stepped_under = (ramp_stepped < ov_target_q);
+    wire          cruise_under = (cruise < ov_target_q);
+    wire          held_under = (ramp_v_q < ov_target_q);
+    wire          exit_under = (exit_speed < ov_target_q);
     reg           ramp_on_n;        // after this edge (before the segment's end clears it)
     reg           ramp_dry_n;
     reg           ramp_start;
     reg           ramp_step;
-    reg  [37:0]   ramp_v_a;         // the staircase's speed before a step
+    reg  [37:0]   ramp_v_a;         // the staircase's speed unless it steps
+    reg           ramp_a_under;     // ramp_v_a < ov_target_q
     always @(*) begin
-        ramp_on_n  = ramp_on_q;
-        ramp_dry_n = ramp_dry_q;
-        ramp_start = 1'b0;
-        ramp_step  = 1'b0;
-        ramp_v_a   = ramp_v_q;
+        ramp_on_n    = ramp_on_q;
+        ramp_dry_n   = ramp_dry_q;
+        ramp_start   = 1'b0;
+        ramp_step    = 1'b0;
+        ramp_v_a     = ramp_v_q;
+        ramp_a_under = held_under;
         if (!ramp_on_q) begin
             if (past_exit) begin
-                ramp_on_n  = 1'b1;
-                ramp_start = 1'b1;
-                ramp_v_a   = cruise;
+                ramp_on_n    = 1'b1;
+                ramp_start   = 1'b1;
+                ramp_v_a     = cruise;
+                ramp_a_under = cruise_under;
             end else if (past_stop && dry_condition) begin
-                ramp_on_n  = 1'b1;
-                ramp_start = 1'b1;
-                ramp_dry_n = 1'b1;
-                ramp_v_a   = cruise;
+                ramp_on_n    = 1'b1;
+                ramp_start   = 1'b1;
+                ramp_dry_n   = 1'b1;
+                ramp_v_a     = cruise;
+                ramp_a_under = cruise_under;
             end
         end else if (ramp_dry_q && !dry_condition) begin
             // the next profile came: back to the plan
@@ -243,20 +282,19 @@ module halfpoint_profile #(
             if (!past_exit) begin
                 ramp_on_n = 1'b0;
             end else if (exit_speed > ramp_v_q) begin
-                ramp_v_a = exit_speed;
+                ramp_v_a     = exit_speed;
+                ramp_a_under = exit_under;
             end
         end else begin
             // this clock ends the level
-            ramp_step = ($signed(ramp_left_q) <= $signed(gain_wide));
+            ramp_step = left_le_gain;
         end
     end
-    wire [37:0]   ramp_floor = ramp_dry_n ? {4'd0, accel_q} : exit_speed;
-    wire [38:0]   ramp_down = {1'b0, ramp_v_a} - {5'd0, accel_q};
-    wire          ramp_below = ramp_down[38] || (ramp_down[37:0] < ramp_floor);
-    wire [37:0]   ramp_v_n = !ramp_step ? ramp_v_a : (ramp_below ? ramp_floor : ramp_down[37:0]);
+    wire [37:0]   ramp_v_n = ramp_step ? ramp_stepped : ramp_v_a;
+    wire          ramp_under = ramp_step ? stepped_under : ramp_a_under;
     // distance left in the level; a level is 2^DIV clocks of its speed
     wire [RW-1:0] level_start = {{(RW-38){1'b0}}, ramp_v_a} << DIV;
-    wire [RW-1:0] level_next = {{(RW-38){1'b0}}, ramp_v_n} << DIV;
+    wire [RW-1:0] level_next = {{(RW-38){1'b0}}, ramp_stepped} << DIV;
     wire [RW-1:0] ramp_left_n = (ramp_start ? level_start : ramp_left_q) - gain_wide
                                 + (ramp_step ? level_next : {RW{1'b0}});
     wire          dry_now = cur_valid_q && ramp_on_n && ramp_dry_n;
@@ -264,23 +302,28 @@ module halfpoint_profile #(
     // ------------------------------------------------------------------
     // Target: the override on the cruise speed, the staircase, hold/stop
     // ------------------------------------------------------------------
-    // (v_cruise << 6) * ov_q >> 7 with ov_q <= 128: ov_q = 128 gives the
-    // cruise speed; else the sum of v_cruise << b over the set bits b < 7
-    // (< 127 x 2^32 < 2^39), shifted left by 6 and right by 7, i.e. halved.
-    // Only the b = 0 term has a bit 0, so the half is exact term by term:
-    // (v_cruise >> 1) for b = 0, v_cruise << (b - 1) for the others; the sum
-    // is < 2^38.
-    wire [37:0]   ov_term0 = ov_q[0] ? {7'd0, v_cruise_q[31:1]} : 38'd0;
-    wire [37:0]   ov_term1 = ov_q[1] ? {6'd0, v_cruise_q}       : 38'd0;
-    wire [37:0]   ov_term2 = ov_q[2] ? {5'd0, v_cruise_q, 1'b0} : 38'd0;
-    wire [37:0]   ov_term3 = ov_q[3] ? {4'd0, v_cruise_q, 2'd0} : 38'd0;
-    wire [37:0]   ov_term4 = ov_q[4] ? {3'd0, v_cruise_q, 3'd0} : 38'd0;
-    wire [37:0]   ov_term5 = ov_q[5] ? {2'd0, v_cruise_q, 4'd0} : 38'd0;
-    wire [37:0]   ov_term6 = ov_q[6] ? {1'd0, v_cruise_q, 5'd0} : 38'd0;
+    // The model's (v_cruise << 6) * ov_q >> 7, with ov_q the override of the
+    // previous clock and v_cruise the current segment's, computed at the
+    // edge that registers ov_q (from the override input, clipped at 128) and
+    // loads v_cruise (on take): ov_target_q holds it during the clock.  With
+    // ov <= 128: ov = 128 gives the cruise speed; else the sum of
+    // v_cruise << b over the set bits b < 7 (< 127 x 2^32 < 2^39), shifted
+    // left by 6 and right by 7, i.e. halved.  Only the b = 0 term has a bit
+    // 0, so the half is exact term by term: v_cruise >> 1 for b = 0,
+    // v_cruise << (b - 1) for the others; the sum is < 2^38.
+    wire [7:0]    ov_n = (override > OVERRIDE_ONE) ? OVERRIDE_ONE : override;
+    wire [31:0]   cruise_n = take_now ? next_v_cruise : v_cruise_q;
+    wire [37:0]   ov_term0 = ov_n[0] ? {7'd0, cruise_n[31:1]} : 38'd0;
+    wire [37:0]   ov_term1 = ov_n[1] ? {6'd0, cruise_n}       : 38'd0;
+    wire [37:0]   ov_term2 = ov_n[2] ? {5'd0, cruise_n, 1'b0} : 38'd0;
+    wire [37:0]   ov_term3 = ov_n[3] ? {4'd0, cruise_n, 2'd0} : 38'd0;
+    wire [37:0]   ov_term4 = ov_n[4] ? {3'd0, cruise_n, 3'd0} : 38'd0;
+    wire [37:0]   ov_term5 = ov_n[5] ? {2'd0, cruise_n, 4'd0} : 38'd0;
+    wire [37:0]   ov_term6 = ov_n[6] ? {1'd0, cruise_n, 5'd0} : 38'd0;
     wire [37:0]   ov_half = ((ov_term0 + ov_term1) + (ov_term2 + ov_term3))
                             + ((ov_term4 + ov_term5) + ov_term6);
-    wire [37:0]   ov_target = ov_q[7] ? cruise : ov_half;
-    wire [37:0]   limited = (ramp_on_n && ramp_v_n < ov_target) ? ramp_v_n : ov_target;
+    wire [37:0]   ov_target_n = ov_n[7] ? {cruise_n, 6'd0} : ov_half;
+    wire [37:0]   limited = (ramp_on_n && ramp_under) ? ramp_v_n : ov_target_q;
     wire [37:0]   target = (!cur_valid_q || hold || stop) ? 38'd0 : limited;
 
     // ------------------------------------------------------------------
@@ -362,15 +405,20 @@ module halfpoint_profile #(
         end
     end
 
-    // dry survives abort; the override is registered on every edge but reset
+    // dry survives abort
     always @(posedge clk) begin
         if (rst) begin
             dry_q <= 1'b0;
-            ov_q  <= OVERRIDE_ONE;
-        end else begin
-            if (dry_now && !abort) dry_q <= 1'b1;
-            ov_q <= (override > OVERRIDE_ONE) ? OVERRIDE_ONE : override;
+        end else if (dry_now && !abort) begin
+            dry_q <= 1'b1;
         end
+    end
+
+    // the override target of the next clock, on every edge (the model's ov_q
+    // is registered on every edge, abort included; without a segment the
+    // value is not used, and the edge that takes one computes it afresh)
+    always @(posedge clk) begin
+        ov_target_q <= ov_target_n;
     end
 
     assign speed = v_q;

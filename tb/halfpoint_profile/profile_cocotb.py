@@ -338,12 +338,12 @@ class Monitor:
         d = self.dut
         got = {k: int(getattr(d, k + "_q").value) for k in (
             "cur_valid", "accel", "v", "credit", "s", "since", "last_up", "last_down",
-            "ov", "dry", "ramp_on", "ramp_dry", "ramp_v")}
+            "dry", "ramp_on", "ramp_dry", "ramp_v")}
         rw = ramp_left_width()
         raw = int(d.ramp_left_q.value)
         got["ramp_left"] = raw - (1 << rw) if raw >> (rw - 1) else raw
         if got["cur_valid"]:
-            for k in ("v_cruise", "v_exit", "line_cost", "d_exit", "d_stop"):
+            for k in ("v_cruise", "v_exit", "line_cost", "d_exit", "d_stop", "ov_target"):
                 got[k] = int(getattr(d, k + "_q").value)
         return got
 
@@ -361,13 +361,15 @@ def model_registers(model: ProfileStage) -> dict:
     want = {"cur_valid": int(model.cur is not None), "accel": model.accel, "v": model.v,
             "credit": model.credit, "s": model.s, "since": model.since - 1,
             "last_up": int(model.last_dir == 1), "last_down": int(model.last_dir == -1),
-            "ov": model.ov_q, "dry": model.dry, "ramp_on": int(model.ramp_on),
+            "dry": model.dry, "ramp_on": int(model.ramp_on),
             "ramp_dry": int(model.ramp_dry), "ramp_v": model.ramp_v,
             "ramp_left": model.ramp_left}
     if model.cur is not None:
         c = model.cur
+        # the RTL keeps the model's ov_q as its product with the cruise speed
         want.update(v_cruise=c.v_cruise, v_exit=c.v_exit, line_cost=c.line_cost,
-                    d_exit=c.d_exit, d_stop=c.d_stop)
+                    d_exit=c.d_exit, d_stop=c.d_stop,
+                    ov_target=((c.v_cruise << pf.SPEED_SHIFT) * model.ov_q) >> 7)
     return want
 
 
