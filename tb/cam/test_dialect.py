@@ -367,3 +367,38 @@ def test_order_of_execution_within_a_block():
 def test_refused_words_name_the_line(text, reason):
     e = error(text)
     assert e.lineno == 1 and reason in e.reason, e.reason
+
+
+# ------------------------------------------------------------------ machine state as parameters
+
+def test_system_parameters_read_the_state_the_blocks_before_left():
+    """The interpreter runs each block through the parser as it goes, so a line reads the
+    offsets, position, tool and modes that the lines before it set (LinuxCNC's numbered
+    parameters #5161-#5428 and the named #<_x>...)."""
+    tools = load_tool_table(TOOLS)
+    prog = parse("G10 L2 P1 X5\nG0 X#5221\n"               # G54 X offset 5 -> X 5 + 5
+                 "G0 X3 Y4\nG0 X[#5420 * 2] Y#<_abs_y>\n"  # program X 3 -> 6; Y 4
+                 "G0 Z7\nG0 Z[#<_z> + 1]\n"
+                 "G55\nG0 X#5220\n"                        # G55 in use: 2 (offset 0)
+                 "T2 M6\nG0 Y#5400 Z#<_current_tool>\n"
+                 "G43.1 Z1\nG0 Z#5403\n"                   # offset 1: program Z 1 -> 2
+                 "G92 X0\nG0 Y#5211 Z#5210\n"              # G92 X offset 2, applied
+                 "G28\nG0 X#5161 Y#5182\nM2", tools=tools,
+                 positions={"g28": (1, 2, 3), "g30": (4, 5, 6)})
+    assert pts(prog) == [
+        ("rapid", (10, 0, 0)), ("rapid", (8, 4, 0)), ("rapid", (11, 4, 0)),
+        ("rapid", (11, 4, 7)), ("rapid", (11, 4, 8)), ("rapid", (2, 4, 8)),
+        ("rapid", (2, 2, 2)), ("rapid", (2, 2, 2)), ("rapid", (2, 2, 2)),
+        ("rapid", (1, 2, 3)), ("rapid", (3, 5, 3))]
+
+
+def test_named_modal_parameters_and_program_units():
+    # a line reads the values from before it: G21 G91 count from the next line on
+    prog = parse("G20 G0 X1\nG0 Y#<_x>\nG21 G91\nG0 Z[#<_metric> + #<_incremental> * 10]\n"
+                 "G90 G0 X[#<_motion_mode> / 10] Y[#<_coord_system> / 10] Z[#<_plane>]\n"
+                 "F123 S456 M3 M8\nG0 X#<_feed> Y#<_rpm> Z[#<_spindle_on> + #<_flood>]\nM2")
+    assert pts(prog) == [("rapid", (25.4, 0, 0)), ("rapid", (25.4, 25.4, 0)),
+                         ("rapid", (25.4, 25.4, 11)), ("rapid", (0, 54, 170)),
+                         ("rapid", (123, 456, 2))]
+    e = error("G0 X#<_ccomp>\nM2")
+    assert e.lineno == 1 and "does not track" in e.reason

@@ -351,27 +351,29 @@ def parse(text: str, tools: dict[int, float] | None = None,
     from .ngc import expand
 
     p = _Parser(tools or {}, radius_override, _positions(positions), optional_stop)
-    expanded = expand(text, source, block_delete=block_delete, search_path=search_path)
-    p.prog.messages = expanded.messages
-    # "%" opens a demarcated program; "%1234" (a Fanuc-style program number,
-    # as in seed 004's tests) is read the same way, the number ignored
-    percent = expanded.opening != 0
-    for block in expanded.blocks:
+
+    def on_block(block, out):
+        """Each block as the interpreter executes it, so that the next line's
+        parameters see the state it leaves (positions, offsets, modes)."""
         lineno, raw = block.lineno, block.text
-        if percent and block.source == "" and lineno == expanded.opening:
-            continue
+        # "%" opens a demarcated program; "%1234" (a Fanuc-style program number,
+        # as in seed 004's tests) is read the same way, the number ignored
+        if p.prog.ended or (out.opening and block.source == "" and lineno == out.opening):
+            return
         if raw.strip() == "%":
-            if percent:
+            if out.opening:
                 p.prog.ended = True
-                break
+                return
             raise GcodeError(lineno, "'%' closes a program that did not open with '%'")
         if p.block(lineno, raw):
             p.prog.ended = True
-            break
-    else:
-        if percent:
-            raise GcodeError(expanded.line_count, "program opened with '%' but has no closing '%'")
+
+    expanded = expand(text, source, block_delete=block_delete, search_path=search_path,
+                      on_block=on_block, state=p)
+    p.prog.messages = expanded.messages
     if not p.prog.ended:
+        if expanded.opening:
+            raise GcodeError(expanded.line_count, "program opened with '%' but has no closing '%'")
         p.prog.notes.append(f"no M2 or M30: the program ends at the end of the file (line "
                             f"{expanded.line_count}); LinuxCNC requires one")
     return p.prog
@@ -426,6 +428,57 @@ class _Parser:
         self.cycle_p = self.cycle_q = None
         self.spindle_on, self.spindle_cw, self.speed = False, True, 0.0
         self.mist = self.flood = False
+
+    # LinuxCNC's parameters of machine state (read by halfpoint.cam.ngc), program units
+    def numbered(self, n: int) -> float | None:
+        s = self.scale
+        if 5161 <= n <= 5169 or 5181 <= n <= 5189:
+            a = (n - 5161) % 20
+            return self.stored[28 if n < 5181 else 30][a] / s if a < 3 else 0.0
+        if n == 5210:
+            return 1.0 if any(self.g92) else 0.0
+        if 5211 <= n <= 5219:
+            return self.g92_saved[n - 5211] / s if n < 5214 else 0.0
+        if n == 5220:
+            return float(self.coord + 1)
+        if 5221 <= n <= 5390:
+            k, a = divmod(n - 5221, 20)
+            if k < len(_COORD) and a <= 9:
+                return self.systems[k][a] / s if a < 3 else 0.0
+            return None
+        if n == 5400:
+            return float(self.loaded or 0)
+        if 5401 <= n <= 5409:
+            return self.tlo[n - 5401] / s if n < 5404 else 0.0
+        if 5420 <= n <= 5428:
+            return self.program_pos()[n - 5420] / s if n < 5423 else 0.0
+        return None
+
+    def named(self, name: str) -> float | None:
+        s = self.scale
+        if name in ("_x", "_y", "_z"):
+            return self.program_pos()["xyz".index(name[1])] / s
+        if name in ("_abs_x", "_abs_y", "_abs_z"):
+            return self.pos["xyz".index(name[-1])] / s
+        if name in ("_a", "_b", "_c", "_u", "_v", "_w", "_abs_a", "_abs_b", "_abs_c",
+                    "_abs_u", "_abs_v", "_abs_w", "_units_per_rev", "_spindle_css_mode"):
+            return 0.0
+        values = {
+            "_current_tool": self.loaded or 0,
+            "_selected_tool": -1 if self.prepared is None else self.prepared,
+            "_metric": s == 1.0, "_imperial": s != 1.0,
+            "_absolute": self.absolute, "_incremental": not self.absolute,
+            "_inverse_time": self.inverse_time, "_units_per_minute": not self.inverse_time,
+            "_feed": self.feed / s, "_rpm": self.speed,
+            "_spindle_on": self.spindle_on, "_spindle_cw": self.spindle_cw,
+            "_mist": self.mist, "_flood": self.flood, "_spindle_rpm_mode": 1,
+            "_coord_system": round(_COORD[self.coord] * 10), "_plane": self.plane * 10,
+            "_motion_mode": 10 * (80 if self.motion is None else self.motion),
+            "_retract_r_plane": self.retract_r_plane,
+            "_retract_old_z": not self.retract_r_plane,
+            "_ijk_absolute_mode": self.arc_absolute,
+        }
+        return float(values[name]) if name in values else None
 
     # coordinates
     def offset(self, ax: int) -> float:
