@@ -84,8 +84,25 @@ def test_inverse_time_feed_converts_to_mm_per_min_from_the_length():
 def test_units_and_arc_p_word():
     prog = parse("G20 F10\nG1 X1\nM2")
     assert prog.moves[0].end == (25.4, 0.0, 0.0) and prog.moves[0].feed == 254.0
-    e = error("F10\nG2 X0 Y0 I1 P2\nM2")
-    assert e.lineno == 2 and "more than one turn" in e.reason
+    e = error("F10\nG2 X0 Y0 I1 P1.5\nM2")
+    assert e.lineno == 2 and "arc turns P must be a whole number >= 1" in e.reason
+
+
+def test_arc_p_turns_add_full_circles_before_the_arc():
+    prog = parse("F100\nG1 X5\nG3 X5 Y0 Z-3 I-5 J0 P3\nG2 X0 Y-5 Z-8 I-5 J0 P2\nM2")
+    turns = prog.moves[1:]
+    assert [m.start for m in turns[:3]] == [(5, 0, 0), (5, 0, -1), (5, 0, -2)]
+    assert [m.end for m in turns[:3]] == [(5, 0, -1), (5, 0, -2), (5, 0, -3)]
+    # a full circle then the quarter: Z falls 5 mm over 2.25 turns, in proportion
+    circle, quarter = turns[3:]
+    assert circle.start == (5, 0, -3) and circle.end[:2] == (5, 0) and circle.cw
+    assert circle.end[2] == pytest.approx(-3 - 5 * 1 / 1.25)
+    assert quarter.start == circle.end and quarter.end == (0, -5, -8)
+    assert {m.center for m in turns} == {(0.0, 0.0)} and {m.lineno for m in turns[3:]} == {4}
+    g93 = parse("G93\nG1 X5 F1\nG3 X5 Y0 I-5 J0 P2 F1\nM2").moves[1:]
+    assert [m.feed for m in g93] == pytest.approx([20 * math.pi] * 2)     # both in 1 min
+    e = error("F10\nG41.1 D1 G1 X5\nG3 X5 Y0 I-5 J0 P2\nM2")
+    assert e.lineno == 3 and "multi-turn arcs with cutter compensation" in e.reason
 
 
 # ------------------------------------------------------------------ coordinates

@@ -13,7 +13,8 @@ Supported (LinuxCNC's semantics; README "Dialect" lists every word):
   arcs in G17/G18/G19 with the plane's offsets (I J / I K / J K, centre form in
   G91.1 or G90.1, radius form R) and, as LinuxCNC, a zero offset word of the
   third axis accepted (FreeCAD's ``K0`` in G17); helical arcs (the axis normal
-  to the plane moves linearly with the arc).  G80 and the canned cycles G73
+  to the plane moves linearly with the arc); ``P`` turns (P - 1 full circles
+  before the programmed arc, each its own ``Move``).  G80 and the canned cycles G73
   G81 G82 G83 G85 G89 with G98/G99 and L repeats, expanded into moves and
   dwells as LinuxCNC's ``interp_cycles.cc`` does (run in exact-path mode).
 * Feed: F, G94 (units per minute) and G93 (inverse time: F on every feed
@@ -836,17 +837,34 @@ class _Parser:
                 self.line_to("rapid" if self.motion == 0 else "line", end, ln, feed)
             return
         turns = vals.pop("P", 1.0)
-        if turns != 1:
-            raise GcodeError(ln, f"arcs of more than one turn (P{turns:g}) are not supported")
+        if turns != int(turns) or turns < 1:
+            raise GcodeError(ln, f"arc turns P must be a whole number >= 1, got P{turns:g}")
         m = _arc(self.motion == 2, self.pos, end, offs, rword, self.plane, self.scale,
                  self.arc_absolute, feed, ln, self.comp, self.comp_r, self.offset)
-        if m.start[PLANE_AXES[m.plane][2]] != m.end[PLANE_AXES[m.plane][2]] and \
-                self.comp != "off":
-            raise GcodeError(ln, "helical arcs with cutter compensation on are not supported")
+        ap = PLANE_AXES[m.plane][2]
+        if self.comp != "off" and (m.start[ap] != m.end[ap] or turns > 1):
+            raise GcodeError(ln, "helical or multi-turn arcs with cutter compensation on are "
+                                 "not supported")
+        # P turns (LinuxCNC): P - 1 full circles, then the programmed arc; the axis
+        # normal to the plane moves in proportion to the angle over all of them
+        base = abs(arc_sweep(m))
+        total = base + 2 * math.pi * (int(turns) - 1)
+        pieces = []
+        start = list(m.start)
+        for _ in range(int(turns) - 1):
+            stop = list(start)
+            stop[ap] += (m.end[ap] - m.start[ap]) * 2 * math.pi / total
+            pieces.append(Move("arc", tuple(start), tuple(stop), ln, feed, center=m.center,
+                               cw=m.cw, plane=m.plane, comp=m.comp, radius=m.radius))
+            start = stop
+        m.start = tuple(start)
+        pieces.append(m)
         if self.inverse_time:
-            length = arc_length(m)
-            m.feed = length * self.block_f if length > 0 else 1.0
-        self.add_move(m)
+            length = sum(arc_length(piece) for piece in pieces)
+            for piece in pieces:
+                piece.feed = length * self.block_f if length > 0 else 1.0
+        for piece in pieces:
+            self.add_move(piece)
 
     def cycle(self, g, new_cycle: bool, vals, ln):
         """Canned cycle ``g`` at this block (LinuxCNC ``convert_cycle_xy``)."""
