@@ -145,12 +145,16 @@ module halfpoint_profile #(
     // Registers
     // ------------------------------------------------------------------
     reg           cur_valid_q;      // a segment is current (the model's cur)
-    reg  [31:0]   v_cruise_q;       // its fields
-    reg  [31:0]   v_exit_q;
+    reg  [31:0]   v_cruise_q;       // its fields (v_exit as exit_speed_q below)
     reg  [33:0]   accel_q;          // kept after the segment ends (the model's accel)
     reg  [17:0]   line_cost_q;
     reg  [DW-1:0] d_exit_q;
     reg  [DW-1:0] d_stop_q;
+    // derived from the fields when the profile is taken (only their
+    // function is used: no compare or OR tree in the clock's paths)
+    reg           exit_nonzero_q;   // v_exit != 0
+    reg  [37:0]   exit_speed_q;     // v_exit << 6, or the creep speed accel for 0
+    reg  [40:0]   cap_q;            // twice the largest cost, x 2^22
     reg  [37:0]   v_q;              // speed
     reg  [40:0]   credit_q;
     reg  [DW-1:0] s_q;              // popped distance in the segment
@@ -193,8 +197,7 @@ module halfpoint_profile #(
     // the registers and the head's cost; pop_now only selects between them,
     // so the pop decision does not sit in front of the adders.
     // ------------------------------------------------------------------
-    wire [17:0]   largest_cost = (line_cost_q != 18'd0) ? line_cost_q : COST_DIAGONAL;
-    wire [40:0]   cap = {largest_cost, 23'd0};
+    wire [40:0]   cap = cap_q;
     wire [40:0]   cost_credit = {1'b0, cost, 22'd0};                    // cost x 2^22
     wire [41:0]   credit_sum = {1'b0, credit_q} + {4'd0, v_q};         // < 2^41 + 2^38
     wire [41:0]   cap_plus_cost = {1'b0, cap} + {1'b0, cost_credit};   // < 2^42
@@ -235,8 +238,8 @@ module halfpoint_profile #(
     // (see below); every candidate for the staircase's speed is compared
     // with it side by side
     reg  [37:0]   ov_target_q;
-    wire          exit_nonzero = (v_exit_q != 32'd0);
-    wire [37:0]   exit_speed = exit_nonzero ? {v_exit_q, 6'd0} : {4'd0, accel_q};
+    wire          exit_nonzero = exit_nonzero_q;
+    wire [37:0]   exit_speed = exit_speed_q;
     wire [37:0]   cruise = {v_cruise_q, 6'd0};
     wire          dry_condition = !next_valid && exit_nonzero;
     // a step happens only while the staircase runs on (ramp_on_q, and not
@@ -295,8 +298,16 @@ module halfpoint_profile #(
     // distance left in the level; a level is 2^DIV clocks of its speed
     wire [RW-1:0] level_start = {{(RW-38){1'b0}}, ramp_v_a} << DIV;
     wire [RW-1:0] level_next = {{(RW-38){1'b0}}, ramp_stepped} << DIV;
-    wire [RW-1:0] ramp_left_n = (ramp_start ? level_start : ramp_left_q) - gain_wide
-                                + (ramp_step ? level_next : {RW{1'b0}});
+    // ramp_left_n = x - gain + l = x + ~gain + 1 + l: a carry-save step (one
+    // LUT level) and a single adder, the + 1 in the free bit 0 of the carries
+    wire [RW-1:0] left_x = ramp_start ? level_start : ramp_left_q;
+    wire [RW-1:0] left_g = ~gain_wide;
+    wire [RW-1:0] left_l = ramp_step ? level_next : {RW{1'b0}};
+    wire [RW-1:0] left_sum = left_x ^ left_g ^ left_l;
+    wire [RW-2:0] left_carry = (left_x[RW-2:0] & left_g[RW-2:0])
+                               | (left_x[RW-2:0] & left_l[RW-2:0])
+                               | (left_g[RW-2:0] & left_l[RW-2:0]);
+    wire [RW-1:0] ramp_left_n = left_sum + {left_carry, 1'b1};
     wire          dry_now = cur_valid_q && ramp_on_n && ramp_dry_n;
 
     // ------------------------------------------------------------------
@@ -398,10 +409,12 @@ module halfpoint_profile #(
     always @(posedge clk) begin
         if (take_now && !rst && !abort) begin
             v_cruise_q  <= next_v_cruise;
-            v_exit_q    <= next_v_exit;
             line_cost_q <= next_line_cost;
             d_exit_q    <= next_d_exit;
             d_stop_q    <= next_d_stop;
+            exit_nonzero_q <= (next_v_exit != 32'd0);
+            exit_speed_q   <= (next_v_exit != 32'd0) ? {next_v_exit, 6'd0} : {4'd0, next_accel};
+            cap_q <= {(next_line_cost != 18'd0) ? next_line_cost : COST_DIAGONAL, 23'd0};
         end
     end
 

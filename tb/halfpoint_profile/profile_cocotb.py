@@ -343,7 +343,8 @@ class Monitor:
         raw = int(d.ramp_left_q.value)
         got["ramp_left"] = raw - (1 << rw) if raw >> (rw - 1) else raw
         if got["cur_valid"]:
-            for k in ("v_cruise", "v_exit", "line_cost", "d_exit", "d_stop", "ov_target"):
+            for k in ("v_cruise", "exit_speed", "line_cost", "d_exit", "d_stop", "ov_target",
+                      "cap"):
                 got[k] = int(getattr(d, k + "_q").value)
         return got
 
@@ -366,10 +367,13 @@ def model_registers(model: ProfileStage) -> dict:
             "ramp_left": model.ramp_left}
     if model.cur is not None:
         c = model.cur
-        # the RTL keeps the model's ov_q as its product with the cruise speed
-        want.update(v_cruise=c.v_cruise, v_exit=c.v_exit, line_cost=c.line_cost,
+        # the RTL keeps the model's ov_q as its product with the cruise speed, and
+        # v_exit as the staircase's exit speed (the creep speed for 0)
+        exit_speed = c.v_exit << pf.SPEED_SHIFT if c.v_exit else c.accel
+        want.update(v_cruise=c.v_cruise, exit_speed=exit_speed, line_cost=c.line_cost,
                     d_exit=c.d_exit, d_stop=c.d_stop,
-                    ov_target=((c.v_cruise << pf.SPEED_SHIFT) * model.ov_q) >> 7)
+                    ov_target=((c.v_cruise << pf.SPEED_SHIFT) * model.ov_q) >> 7,
+                    cap=(c.largest_cost() << pf.COST_SHIFT) << 1)
     return want
 
 
