@@ -141,6 +141,9 @@ class Coolant(Event):
 
 @dataclass
 class Program:
+    """A parsed program: ``moves`` (motion only, in order), ``events`` (everything
+    else in order, each with ``before`` = the index of the move it precedes)."""
+
     moves: list[Move] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)     # choices worth printing (tool units)
     ended: bool = False            # M2/M30 or closing %
@@ -628,7 +631,8 @@ class _Parser:
                 if h not in self.tools and h not in offsets:
                     raise GcodeError(ln, f"G43 H{h}: tool {h} is not in the tool table")
                 x, z = offsets.get(h, (0.0, 0.0))
-                k = _table_scale(self.tools, self.scale, self.prog.notes, "offsets")
+                k = (_table_scale(self.tools, self.scale, self.prog.notes, "offsets")
+                     if x or z else 1.0)
                 self.tlo = [x * k, 0.0, z * k]
         elif tl == 43.1:
             given = {k: vals.pop(k) for k in "XYZ" if k in vals}
