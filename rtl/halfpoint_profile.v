@@ -298,16 +298,8 @@ module halfpoint_profile #(
     // distance left in the level; a level is 2^DIV clocks of its speed
     wire [RW-1:0] level_start = {{(RW-38){1'b0}}, ramp_v_a} << DIV;
     wire [RW-1:0] level_next = {{(RW-38){1'b0}}, ramp_stepped} << DIV;
-    // ramp_left_n = x - gain + l = x + ~gain + 1 + l: a carry-save step (one
-    // LUT level) and a single adder, the + 1 in the free bit 0 of the carries
-    wire [RW-1:0] left_x = ramp_start ? level_start : ramp_left_q;
-    wire [RW-1:0] left_g = ~gain_wide;
-    wire [RW-1:0] left_l = ramp_step ? level_next : {RW{1'b0}};
-    wire [RW-1:0] left_sum = left_x ^ left_g ^ left_l;
-    wire [RW-2:0] left_carry = (left_x[RW-2:0] & left_g[RW-2:0])
-                               | (left_x[RW-2:0] & left_l[RW-2:0])
-                               | (left_g[RW-2:0] & left_l[RW-2:0]);
-    wire [RW-1:0] ramp_left_n = left_sum + {left_carry, 1'b1};
+    wire [RW-1:0] ramp_left_n = (ramp_start ? level_start : ramp_left_q) - gain_wide
+                                + (ramp_step ? level_next : {RW{1'b0}});
     wire          dry_now = cur_valid_q && ramp_on_n && ramp_dry_n;
 
     // ------------------------------------------------------------------
