@@ -207,7 +207,8 @@ def test_cutter_radius_still_comes_from_the_table():
 # ------------------------------------------------------------------ canned cycles
 
 def test_g81_g98_returns_to_the_initial_level_g99_to_r():
-    prog = parse("F100\nG0 Z10\nG98 G81 X10 Y0 Z-5 R2\nX20\nG99 X30\nX40\nG80\nM2")
+    prog = parse("F100\nG0 Z10\nG98 G81 X10 Y0 Z-5 R2\nX20\nG99 X30\nX40\nG98 X50\nG80\n"
+                 "G0 Z3\nG98 G81 X60 Z-5 R2\nM2")
     assert pts(prog) == [
         ("rapid", (0, 0, 10)),
         ("rapid", (10, 0, 10)), ("rapid", (10, 0, 2)), ("line", (10, 0, -5)),
@@ -217,8 +218,14 @@ def test_g81_g98_returns_to_the_initial_level_g99_to_r():
         ("rapid", (30, 0, 10)), ("rapid", (30, 0, 2)), ("line", (30, 0, -5)),
         ("rapid", (30, 0, 2)),
         ("rapid", (40, 0, 2)), ("line", (40, 0, -5)), ("rapid", (40, 0, 2)),
+        # G98 again: back to the initial level of the series (10), not the current Z
+        ("rapid", (50, 0, 10)), ("rapid", (50, 0, 2)), ("line", (50, 0, -5)),
+        ("rapid", (50, 0, 10)),
+        # after G80 a new series starts from Z 3
+        ("rapid", (50, 0, 3)), ("rapid", (60, 0, 3)), ("rapid", (60, 0, 2)),
+        ("line", (60, 0, -5)), ("rapid", (60, 0, 3)),
     ]
-    assert {m.path_mode for m in prog.moves[1:]} == {"G61"}      # cycles run exact path
+    assert {m.path_mode for m in prog.moves[1:] if m.lineno != 9} == {"G61"}  # exact path
     assert {m.feed for m in prog.moves if m.kind == "line"} == {100.0}
 
 
@@ -237,6 +244,10 @@ def test_l_repeats_in_g91_step_from_hole_to_hole():
         ("rapid", (20, 0, 2)), ("line", (20, 0, -1)), ("rapid", (20, 0, 2)),
         ("rapid", (30, 0, 2)), ("line", (30, 0, -1)), ("rapid", (30, 0, 2)),
     ]
+    # in G91, R counts from the initial level of the series, not from where the tool is
+    prog = parse("F100\nG0 Z5\nG91 G81 X10 Z-3 R-3\nX10\nM2")
+    assert pts(prog)[-3:] == [("rapid", (20, 0, 2)), ("line", (20, 0, -1)),
+                              ("rapid", (20, 0, 2))]
 
 
 def test_g82_and_g89_dwell_at_the_bottom():
@@ -251,10 +262,10 @@ def test_g82_and_g89_dwell_at_the_bottom():
                            Dwell(seconds=2.0, lineno=6, before=10)]
 
 
-def test_g85_feeds_out_to_the_clear_level():
+def test_g85_feeds_out_to_r_then_rapids_to_the_clear_level():
     prog = parse("F100\nG0 Z5\nG98 G85 X1 Z-2 R1\nM2")
     assert pts(prog)[1:] == [("rapid", (1, 0, 5)), ("rapid", (1, 0, 1)), ("line", (1, 0, -2)),
-                             ("line", (1, 0, 5))]
+                             ("line", (1, 0, 1)), ("rapid", (1, 0, 5))]
 
 
 def test_g73_breaks_chips_with_a_short_backoff():
@@ -264,13 +275,13 @@ def test_g73_breaks_chips_with_a_short_backoff():
     assert z == pytest.approx([1, 0.4, 0.654, -0.2, 0.054, -0.8, -0.546, -1, 1])
 
 
-def test_g83_retracts_to_the_clear_level_between_pecks():
+def test_g83_retracts_to_r_between_pecks():
     prog = parse("F100\nG0 Z5\nG98 G83 Z-1 R1 Q0.8\nM2")
     z = [m.end[2] for m in prog.moves[1:]]
     assert [m.kind for m in prog.moves[1:]] == ["rapid"] + ["line", "rapid", "rapid"] * 2 + \
         ["line", "rapid"]
-    # peck to 0.2, out to 5 (G98), back down to 0.2 + 0.254, peck to -0.6, ..., -1 and out
-    assert z == pytest.approx([1, 0.2, 5, 0.454, -0.6, 5, -0.346, -1, 5])
+    # peck to 0.2, out to R, back down to 0.2 + 0.254, peck to -0.6, ..., -1, out to 5 (G98)
+    assert z == pytest.approx([1, 0.2, 1, 0.454, -0.6, 1, -0.346, -1, 5])
     # G20: the back-off is 0.010 inch
     inch = parse("G20 F10\nG0 Z1\nG99 G83 Z-0.2 R0.1 Q0.2\nM2")
     assert inch.moves[4].end[2] == pytest.approx((-0.1 + 0.01) * 25.4)

@@ -16,7 +16,10 @@ Supported (LinuxCNC's semantics; README "Dialect" lists every word):
   to the plane moves linearly with the arc); ``P`` turns (P - 1 full circles
   before the programmed arc, each its own ``Move``).  G80 and the canned cycles G73
   G81 G82 G83 G85 G89 with G98/G99 and L repeats, expanded into moves and
-  dwells as LinuxCNC's ``interp_cycles.cc`` does (run in exact-path mode).
+  dwells as LinuxCNC's ``interp_cycles.cc`` (master) does, in exact-path mode:
+  G98 returns to the initial level of the series of consecutive cycle blocks,
+  G83 retracts to R between pecks, G73 backs off 0.010 inch, G85 feeds out to
+  R, G89 feeds out to the clear level.
 * Feed: F, G94 (units per minute) and G93 (inverse time: F on every feed
   move, converted to the move's mm/min from its length).
 * Units and modes: G20 G21 (everything is converted to mm), G90 G91, G90.1
@@ -429,6 +432,7 @@ class _Parser:
         self.path_mode, self.path_p, self.path_q = "G64", 0.0, 0.0
         self.retract_r_plane = True         # G99 (LinuxCNC's start-up default)
         self.cycle_r = self.cycle_z = None  # sticky R, Z (program coordinates, mm)
+        self.cycle_il = None                # initial level of the cycle series
         self.cycle_p = self.cycle_q = None
         self.spindle_on, self.spindle_cw, self.speed = False, True, 0.0
         self.mist = self.flood = False
@@ -689,6 +693,8 @@ class _Parser:
                 raise GcodeError(ln, "axis words with G80 (G80 cancels the canned cycle)")
             new_cycle = mg in _CYCLES and self.motion != mg
             self.motion = mg
+            if mg not in _CYCLES:
+                self.cycle_il = None
         else:
             new_cycle = False
         if nonmodal == 53 and self.motion not in (0, 1):
@@ -915,7 +921,12 @@ class _Parser:
         elif q is not None:
             raise GcodeError(ln, f"word Q{q:g} is not used by G{g}")
         here = self.program_pos()
-        old_z = here[2]
+        current_z = here[2]
+        # the initial level: Z where this series of consecutive cycle blocks began
+        # (LinuxCNC's cycle_il; any other motion mode ends the series)
+        if self.cycle_il is None:
+            self.cycle_il = current_z
+        old_z = self.cycle_il
         if self.absolute:
             inc_x = inc_y = 0.0
             aa = here[0] if x is None else x * s
@@ -936,30 +947,37 @@ class _Parser:
             if end != tuple(self.pos):      # LinuxCNC's no-op traverses are left out
                 self.line_to(kind, end, ln, self.feed, "G61")
 
-        if old_z < rr:
+        if old_z < rr:                      # below the R plane: straight up to it first
             go("rapid", here[0], here[1], rr)
-            old_z = rr
+            old_z = current_z = rr
         clear = rr if self.retract_r_plane else old_z
         backoff = PECK_BACKOFF_INCH * INCH      # 0.254 mm in G21, 0.010 inch in G20
-        for _ in range(int(lv)):
+        for k in range(int(lv)):
             aa += inc_x
             bb += inc_y
-            go("rapid", aa, bb, old_z)
-            if old_z != rr:
+            if k == 0 and current_z > rr:   # the first hole from where the tool is
+                go("rapid", aa, bb, current_z)
                 go("rapid", aa, bb, rr)
+            else:                           # the others from the clear level
+                go("rapid", aa, bb, clear)
+                if clear > rr:
+                    go("rapid", aa, bb, rr)
             if g in (73, 83):
                 depth = rr - q
                 while depth > zz:
                     go("line", aa, bb, depth)
-                    if g == 83:
-                        go("rapid", aa, bb, clear)
+                    if g == 83:             # out to the R plane
+                        go("rapid", aa, bb, rr)
                     go("rapid", aa, bb, depth + backoff)
                     depth -= q
             go("line", aa, bb, zz)
             if g in (82, 89):
                 self.event(Dwell(seconds=p), ln)
-            go("line" if g in (85, 89) else "rapid", aa, bb, clear)
-            old_z = clear
+            if g == 85:                     # feed out to R, then up to the clear level
+                go("line", aa, bb, rr)
+                go("rapid", aa, bb, clear)
+            else:                           # G89 feeds out to the clear level
+                go("line" if g == 89 else "rapid", aa, bb, clear)
         self.cycle_r, self.cycle_z = r, z
 
 
