@@ -172,6 +172,8 @@ _GROUPS = {
     "spindle speed mode": {97},
 }
 _G_SUPPORTED = set().union(*_GROUPS.values())
+_GROUP_OF = {g: name for name, members in _GROUPS.items() for g in members}
+_NO_GROUP = {name: None for name in _GROUPS}
 _M_GROUPS = {"stopping": {0, 1, 2, 30}, "tool change": {6}, "spindle": {3, 4, 5},
              "coolant": {7, 8, 9}}
 _M_SUPPORTED = set().union(*_M_GROUPS.values())
@@ -542,17 +544,19 @@ class _Parser:
                 if letter in vals:
                     raise GcodeError(lineno, f"word {letter} appears twice")
                 vals[letter] = v
-        for name, members in _GROUPS.items():
-            if sum(1 for g in gs if g in members) > 1:
+        group = dict(_NO_GROUP)
+        for g in gs:
+            name = _GROUP_OF[g]
+            if group[name] is not None:
                 raise GcodeError(lineno, f"two G codes of the {name} group on one line")
-        for name, members in _M_GROUPS.items():
-            found = [m for m in ms if m in members]
-            if len(found) > 1 and not (name == "coolant" and sorted(found) == [7, 8]):
-                raise GcodeError(lineno, f"two M codes of the {name} group on one line")
+            group[name] = g
+        if len(ms) > 1:
+            for name, members in _M_GROUPS.items():
+                found = [m for m in ms if m in members]
+                if len(found) > 1 and not (name == "coolant" and sorted(found) == [7, 8]):
+                    raise GcodeError(lineno, f"two M codes of the {name} group on one line")
         vals.pop("N", None)
         ln = lineno
-        group = {name: next((g for g in gs if g in members), None)
-                 for name, members in _GROUPS.items()}
         nonmodal = group["non-modal"]
         # 2-3: feed mode, F (units first: F is in the units this line selects)
         if group["units"] is not None:
