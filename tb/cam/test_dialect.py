@@ -430,3 +430,20 @@ def test_named_modal_parameters_and_program_units():
                          ("rapid", (123, 456, 2))]
     e = error("G0 X#<_ccomp>\nM2")
     assert e.lineno == 1 and "does not track" in e.reason
+
+
+@pytest.mark.parametrize("text, lineno, reason", [
+    ("G43 H1.5\nM2", 1, "H must be a whole tool number >= 0"),
+    ("F10\nG41.1 D1 G1 X5\nG53 G1 X0\nM2", 3, "G53 with cutter compensation on"),
+    ("F10\nG41.1 D1 G1 X5\nG55 X6\nM2", 3, "cannot change the coordinate system with cutter"),
+    ("F10\nT1 M6\nG41.1 D1 G1 X5\nT2 M6\nM2", 4, "tool change with cutter compensation on"),
+    ("M0 M2\n", 1, "two M codes of the stopping group"),
+    ("G4 P1 G92 X0\nM2", 1, "two G codes of the non-modal group"),
+    ("G17 G18\nM2", 1, "two G codes of the plane group"),
+    ("T-1\nM2", 1, "tool number T must be a whole number >= 0"),
+    ("G93 G94\nM2", 1, "two G codes of the feed mode group"),
+    ("G0 X1 L2\nM2", 1, "unsupported word L2 here"),
+])
+def test_more_errors_name_the_line(text, lineno, reason):
+    e = error(text)
+    assert e.lineno == lineno and reason in e.reason, e.reason
