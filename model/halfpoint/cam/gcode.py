@@ -44,8 +44,12 @@ and every other G or M code or word.
 
 Conventions:
 * The program starts at the machine origin with every offset zero, G54, G17,
-  G21, G90, G91.1, G94, G64, G99, G40, G49 and G80 -- unless the caller's
-  ``state`` says otherwise.
+  G21, G90, G91.1, G94, G64, G99, G40, G49 and G80; the stored G28/G30
+  positions come from ``positions`` (the machine file), else the origin.
+  Offsets set by the program (G10, G92, G28.1, G30.1) last for that program.
+* The interpreter (``halfpoint.cam.ngc``) hands each block to the parser as it
+  runs, so LinuxCNC's machine-state parameters (#5161-#5428, ``#<_x>``...,
+  ``_Parser.numbered`` / ``named``) read what the blocks before them left.
 * Arcs: the end point is checked with LinuxCNC's rule -- an error if the
   start and end radii differ by more than 0.5 mm, or by more than 0.005 mm and
   0.1 % of the radius.  The arc is then run about the programmed centre with
