@@ -164,6 +164,21 @@ def raw_program(rng) -> Program:
         return Program("raw", [fast, slow], [moves_of(rng, False, rng.randint(30, 60)),
                                              moves_of(rng, False, rng.randint(20, 60))], [0, 0])
     if kind < 0.55:
+        # line iterations far below one BLU at full speed: the stage pops every
+        # clock and the credit stays capped while the staircase steps
+        count = rng.randint(1, 2)
+        profiles, moves = [], []
+        for _ in range(count):
+            cost = rng.randint(1 << 10, 1 << 14)
+            m = [CLASS_LINE] * rng.randint(100, 300)
+            v_cruise = rng.randint(1 << 30, TOP_SPEED)
+            d_exit = rng.randint(0, length_of(m, cost) // 3)
+            profiles.append(ProfileParams(v_cruise, rng.randint(0, v_cruise),
+                                          rng.randint(1 << 28, 1 << 32), cost, d_exit,
+                                          rng.randint(0, d_exit)))
+            moves.append(m)
+        return Program("raw", profiles, moves, [0] * count)
+    if kind < 0.7:
         # fine costs at low speeds: the credit often covers a move exactly (credit
         # >= cost and credit > cost differ)
         count = rng.randint(1, 3)
@@ -384,7 +399,8 @@ class Checker:
         self.clocks = 0
         self.seen = {"pop": 0, "take": 0, "stopped": 0, "holding": 0, "ramp_step": 0,
                      "dry_start": 0, "left_negative": 0, "capped_start": 0,
-                     "exact_cover": 0}
+                     "exact_cover": 0, "capped_pop_step": 0}
+        self.v_before = 0
 
     @staticmethod
     def _diff(what: str, clock: int, got: dict, want: dict, context: str) -> None:
@@ -406,9 +422,12 @@ class Checker:
         self.seen["ramp_step"] += int(w.ramp_step)
         self.seen["dry_start"] += int(w.ramp_dry)
         self.seen["capped_start"] += int(w.gain < 0)
+        # a pop with the credit capped, on a clock the staircase steps
+        self.seen["capped_pop_step"] += int(w.pop and w.ramp_step and w.gain < self.v_before)
 
     def credit(self, model: ProfileStage, inp: ProfileInputs) -> None:
         """Before the clock: does the credit cover the head move exactly?"""
+        self.v_before = model.v
         if model.cur is not None and inp.head_valid:
             cost = pf.move_cost(inp.head_class, model.cur)
             self.seen["exact_cover"] += int(model.credit >> pf.COST_SHIFT == cost)
@@ -526,4 +545,4 @@ async def raw_profiles(dut):
     bench.report("raw profiles")
     seen = bench.checker.seen
     assert all(seen[k] for k in ("pop", "take", "ramp_step", "left_negative",
-                                 "capped_start", "exact_cover"))
+                                 "capped_start", "exact_cover", "capped_pop_step"))
