@@ -264,6 +264,7 @@ def test_arc_chains_do_not_accumulate(seed):
     """300 tangent semicircles: the seed's quantiser drifted 9-14 BLU off
     (each arc started where the last stopped).  Placed against the absolute
     geometry the error stays bounded: within the core's 0.5 BLU for centres
-    on the lattice, within 1.5 BLU for any centre."""
+    on the lattice, within 1 BLU for any centre (tb/cam/test_quant_bound.py
+    has the longer chains)."""
     assert lattice_deviation(arc_chain(N_ARCS, seed, True)) <= 0.5 + 1e-9
-    assert lattice_deviation(arc_chain(N_ARCS, seed, False)) <= 1.5
+    assert lattice_deviation(arc_chain(N_ARCS, seed, False)) <= 1.0 + 1e-9
