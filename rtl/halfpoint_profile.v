@@ -48,6 +48,11 @@
 //   ov_target_q 38 the model's ov_q (0 .. 128, registered override) as its
 //                  product with the cruise speed, (v_cruise << 6) x ov_q >> 7
 //                  <= v_cruise x 2^6 < 2^38, registered at the same edge
+//   cur_valid_q, the current profile (v_cruise_q, accel_q, line_cost_q,
+//   d_exit_q, d_stop_q; v_exit as exit_speed_q with exit_nonzero_q, and the
+//   credit cap cap_q, derived when the profile is taken), last_up_q /
+//   last_down_q (the model's last_dir), dry_q, ramp_on_q, ramp_dry_q: as in
+//   the model's table and class.
 //
 // ramp_left: the model's table gives DIV+40 bits (> -1 BLU per clock: one
 // clock's gain past a level).  That holds when every level (2^DIV clocks of
