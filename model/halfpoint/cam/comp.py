@@ -686,7 +686,7 @@ class _Stretch:
                 else:
                     groups.append([p])
         out: list[Move] = []
-        self.path, self.path_roles = [], []
+        self.path, self.path_roles, self.path_out = [], [], []
         emitted = set()
         if len(groups) == len(self.chain):
             self.path_arr = self.arr[self.chain]
@@ -703,6 +703,7 @@ class _Stretch:
                          first.src, first.el.corner)
             self.path.append(el)
             self.path_roles.append(first.role)
+            self.path_out.append(len(out))
             if type(el) is Line:
                 (sx, sy), t = el.p0, el.p1
                 kind = first.kind if first.kind != "arc" else "line"
@@ -723,6 +724,79 @@ class _Stretch:
         # Z-only moves on pieces the path passed by keep their order at its end
         self.stray = [ev for p in pieces if p.events for ev in p.events if id(ev) not in emitted]
         return out
+
+
+def _violations(path, roles, programmed, prog_arr, r, tol, arr=None):
+    """(gouges, self-crossings) of the path between the entry and exit moves,
+    as path indices: gouges as (path index, programmed index, distance),
+    crossings as (path index, path index)."""
+    keep = [k for k, role in enumerate(roles) if role not in (ENTRY, EXIT)]
+    body = [path[k] for k in keep]
+    body_arr = arr[keep] if arr is not None else pack(body)
+    bad = check.gouges(body, programmed, r, tol, arrays=(body_arr, prog_arr))
+    crossings = check.self_crossings(body, arr=body_arr) if not bad else []
+    return ([(keep[i], j, d) for i, j, d in bad],
+            [(keep[i], keep[j]) for i, j in crossings])
+
+
+def _checked(st, out, programmed, prog_arr, r, tol, strict):
+    """Run the independent check on a stretch's result: (moves, warning).
+
+    A gouge or self-crossing is an error naming the programmed lines; without
+    ``strict``, the offending stretch of the path (from the first element
+    involved to the last) is removed and bridged by a straight move where
+    the result passes the same check again (the warning names the lines)."""
+    path, roles = st.path, st.path_roles
+    bad, crossings = _violations(path, roles, programmed, prog_arr, r, tol, st.path_arr)
+    if not bad and not crossings:
+        return out, None
+
+    def error():
+        if bad:
+            worst = min(bad, key=lambda b: b[2])
+            lines = sorted({programmed[b[1]].src for b in bad} | {path[b[0]].src for b in bad})
+            return GcodeError(lines[0], f"the compensated path comes {r - worst[2]:.3g} mm too "
+                                        f"close to the contour near {_line_ranges(lines)} "
+                                        f"(tool radius {r:g} mm)")
+        lines = sorted({path[i].src for i, _ in crossings} | {path[j].src for _, j in crossings})
+        return GcodeError(lines[0], f"the compensated path crosses itself near "
+                                    f"{_line_ranges(lines)}")
+
+    if strict:
+        raise error()
+    ks = [b[0] for b in bad] + [k for c in crossings for k in c]
+    a, b = min(ks), max(ks)
+    if any(role in (ENTRY, EXIT) for role in roles[a:b + 1]):
+        raise error()
+    p0, p1 = path[a].start, path[b].end
+    bridge = [Line(p0, p1, path[a].src)] if not _close(p0, p1, 1e-9) else []
+    new_path = path[:a] + bridge + path[b + 1:]
+    new_roles = roles[:a] + [CONNECTOR] * len(bridge) + roles[b + 1:]
+    bad2, cross2 = _violations(new_path, new_roles, programmed, prog_arr, r, tol)
+    if bad2 or cross2:
+        raise error()
+    i0, i1 = st.path_out[a], st.path_out[b + 1] if b + 1 < len(path) else len(out)
+    removed = out[i0:i1]
+    lines = sorted({m.lineno for m in removed})
+    # Z-only moves inside the stretch keep their order after the bridge
+    events = [m for m in removed if m.kind != "arc" and _close(m.start[:2], m.end[:2], 1e-12)]
+    z, z_end = out[i0].start[2], out[i1 - 1].end[2]
+    mid = []
+    if bridge:
+        m0 = out[i0]
+        z1 = z if events else z_end
+        mid.append(Move("line", (p0[0], p0[1], z), (p1[0], p1[1], z1), m0.lineno,
+                        m0.feed or st.feed))
+        z = z1
+    for ev in events + ([out[i1 - 1]] if events else []):
+        if ev.end[2] != z:
+            mid.append(Move("line" if ev.kind == "arc" else ev.kind, (p1[0], p1[1], z),
+                            (p1[0], p1[1], ev.end[2]), ev.lineno, ev.feed or st.feed))
+            z = ev.end[2]
+    what = "too close to the contour" if bad else "crossing itself"
+    note = (f"{_line_ranges(lines)}: path removed (it came {what}) and bridged by a straight "
+            f"move that the tool (radius {r:g} mm) can follow")
+    return out[:i0] + mid + out[i1:], note
 
 
 def compensate(moves: list[Move], window: int = 5, strict: bool = False) -> CompResult:
@@ -783,22 +857,9 @@ def compensate(moves: list[Move], window: int = 5, strict: bool = False) -> Comp
         st.follow()
         out = st.emit()
         # the independent check of the result (entry excluded)
-        keep = [k for k, role in enumerate(st.path_roles) if role not in (ENTRY, EXIT)]
-        body = [st.path[k] for k in keep]
-        body_arr = st.path_arr[keep] if st.path_arr is not None else pack(body)
-        bad = check.gouges(body, programmed, r, TOL + slack, arrays=(body_arr, prog_arr))
-        if bad:
-            worst = min(bad, key=lambda b: b[2])
-            lines = sorted({programmed[b[1]].src for b in bad} | {body[b[0]].src for b in bad})
-            raise GcodeError(lines[0], f"the compensated path comes {r - worst[2]:.3g} mm too "
-                                       f"close to the contour near {_line_ranges(lines)} "
-                                       f"(tool radius {r:g} mm)")
-        crossings = check.self_crossings(body, arr=body_arr)
-        if crossings:
-            lines = sorted({body[i].src for i, _ in crossings} |
-                           {body[j].src for _, j in crossings})
-            raise GcodeError(lines[0], f"the compensated path crosses itself near "
-                                       f"{_line_ranges(lines)}")
+        out, note = _checked(st, out, programmed, prog_arr, r, TOL + slack, strict)
+        if note:
+            warnings.append(note)
         present = {p.src for kk in st.chain for p in [st.pieces[kk]] if p.role == CONTOUR}
         skipped = sorted({c.lineno for c in st.contour if c.kind == "arc" or
                           not _close(c.start[:2], c.end[:2], 1e-12)} - present - {entry.lineno})
