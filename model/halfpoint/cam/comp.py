@@ -168,6 +168,7 @@ class _Stretch:
         self.closed = False
         self.entry_outside = True
         self.feed = entry.feed or next((m.feed for m in contour if m.feed), 0.0) or 1.0
+        self.trim_entry = False
 
     # -- 1. raw offset path ----------------------------------------------------------
     def _corner(self, prev: Piece, el, corner, src: int, feed: float, trim: bool,
@@ -270,6 +271,8 @@ class _Stretch:
                 continue
             prev = self.pieces[-1]
             is_first = first_piece is None
+            if is_first and self.trim_entry:
+                el = self._trim_entry(prev, el)
             if pending_gap:
                 # over a concave arc smaller than the tool: a straight bridge,
                 # kept or removed by the distance test like any piece
@@ -325,6 +328,48 @@ class _Stretch:
             self.pieces += extra
             self.pieces.append(Piece(el, x.lineno, EXIT, x.kind, x.feed, prev.z1, x.end[2]))
             self.has_exit = True
+
+    def _trim_entry(self, prev: Piece, el):
+        """LinuxCNC's inside corner after the entry move (interp_convert.cc,
+        convert_straight_comp2 / convert_arc_comp2): the entry's end moves
+        back along the entry's offset line (through its end, parallel to the
+        programmed entry) to where it meets the first block's offset, and the
+        block starts there.  A reversal onto an arc the tool runs outside
+        counts as an inside corner too (LinuxCNC's "h" shape).  When that
+        point lies behind the entry's start, LinuxCNC refuses the program
+        (interp_queue.cc, move_endpoint_and_flush: "Straight feed in concave
+        corner cannot be reached by the tool without gouging"): so does this.
+        Returns el trimmed; raises _NoTrim where the rule does not apply."""
+        e = self.entry
+        if e.kind == "arc" or prev.role != ENTRY:
+            raise _NoTrim
+        c, p0 = e.start[:2], e.end[:2]
+        d = math.dist(c, p0)
+        ux, uy = (p0[0] - c[0]) / d, (p0[1] - c[1]) / d
+        tb = el.tangent(0.0)
+        cross = ux * tb[1] - uy * tb[0]
+        dot = ux * tb[0] + uy * tb[1]
+        inside = (cross > 1e-12) if self.left else (cross < -1e-12)
+        if abs(cross) <= 1e-12 and dot < 0 and type(el) is Arc:
+            inside = (el.sweep > 0) != self.left        # the tool outside the arc
+        if not inside:
+            raise _NoTrim
+        end = prev.el.end
+        far = Line(end, (end[0] - ux * (d + 4 * self.r), end[1] - uy * (d + 4 * self.r)))
+        hits = [(ta, tb_, pt) for ta, tb_, pt in intersect(far, el) if tb_ < 1 - 1e-12]
+        if not hits:
+            raise _NoTrim
+        ta, tb_, mid = min(hits)
+        back = ta * far.length()
+        if back >= d - TOL:
+            raise GcodeError(e.lineno, f"the tool (radius {self.r:g} mm) cannot join the "
+                                       "contour from this entry move without gouging: the "
+                                       "inside corner lies behind the entry's start (LinuxCNC "
+                                       "refuses it too)")
+        prev.el = Line(prev.el.p0, mid, prev.el.src)
+        if type(el) is Line:
+            return Line(mid, el.p1, el.src)
+        return el.with_start(mid)
 
     # -- 2. cut at every crossing ------------------------------------------------------
     def cut(self):
@@ -726,6 +771,31 @@ class _Stretch:
         return out
 
 
+class _NoTrim(Exception):
+    """The LinuxCNC entry trim does not apply to this entry."""
+
+
+def _stretch(entry, contour, side, r, exit_move, trim_entry):
+    """Build, cut, classify and follow one stretch; (stretch, programmed
+    elements, their array, the arc-end slack)."""
+    st = _Stretch(entry, contour, side, r, exit_move)
+    st.trim_entry = trim_entry
+    st.build()
+    st.cut()
+    programmed = list(st.prog_of.values())
+    prog_arr = pack(programmed)
+    # an arc runs about its centre with its start radius; its end may be
+    # a rounding error (at most LinuxCNC's arc tolerance) away from where
+    # the next block starts: the checks allow that much on top of TOL
+    slack = float(np.hypot(prog_arr[:-1, X1] - prog_arr[1:, X0],
+                           prog_arr[:-1, Y1] - prog_arr[1:, Y0]).max()) \
+        if len(programmed) > 1 else 0.0
+    st.slack = slack
+    st.classify(programmed, prog_arr)
+    st.follow()
+    return st, programmed, prog_arr, slack
+
+
 def _violations(path, roles, programmed, prog_arr, r, tol, arr=None):
     """(gouges, self-crossings) of the path between the entry and exit moves,
     as path indices: gouges as (path index, programmed index, distance),
@@ -841,20 +911,19 @@ def compensate(moves: list[Move], window: int = 5, strict: bool = False) -> Comp
                 raise GcodeError(moves[k].lineno,
                                  "cutter compensation on for the lead-in move only")
             raise GcodeError(entry.lineno, "cutter compensation on for the lead-in move only")
-        st = _Stretch(entry, contour, side, r, moves[k] if k < n_moves else None)
-        st.build()
-        st.cut()
-        programmed = list(st.prog_of.values())
-        prog_arr = pack(programmed)
-        # an arc runs about its centre with its start radius; its end may be
-        # a rounding error (at most LinuxCNC's arc tolerance) away from where
-        # the next block starts: the checks allow that much on top of TOL
-        slack = float(np.hypot(prog_arr[:-1, X1] - prog_arr[1:, X0],
-                               prog_arr[:-1, Y1] - prog_arr[1:, Y0]).max()) \
-            if len(programmed) > 1 else 0.0
-        st.slack = slack
-        st.classify(programmed, prog_arr)
-        st.follow()
+        exit_move = moves[k] if k < n_moves else None
+        try:
+            st, programmed, prog_arr, slack = _stretch(entry, contour, side, r, exit_move, False)
+        except GcodeError as first_error:
+            # the path stopped at an inside corner behind the entry: the
+            # entry's end moved back along its offset onto the contour's
+            # offset, as LinuxCNC moves it (an error naming the entry move
+            # when that lies behind the entry's start)
+            try:
+                st, programmed, prog_arr, slack = _stretch(entry, contour, side, r, exit_move,
+                                                           True)
+            except _NoTrim:
+                raise first_error from None
         out = st.emit()
         # the independent check of the result (entry excluded)
         out, note = _checked(st, out, programmed, prog_arr, r, TOL + slack, strict)
