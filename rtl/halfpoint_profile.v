@@ -254,9 +254,7 @@ module halfpoint_profile #(
     wire [38:0]   ramp_down = {1'b0, ramp_v_q} - {5'd0, accel_q};
     wire          ramp_below = ramp_down[38] || (ramp_down[37:0] < floor_held);
     wire [37:0]   ramp_stepped = ramp_below ? floor_held : ramp_down[37:0];
-    // max(ramp_v - accel, floor) < ov_target_q, both sides compared at once
-    wire          stepped_under = (ramp_down[38] || ramp_down[37:0] < ov_target_q)
-                                  && (floor_held < ov_target_q);
+    wire          stepped_under = (ramp_stepped < ov_target_q);
     wire          cruise_under = (cruise < ov_target_q);
     wire          held_under = (ramp_v_q < ov_target_q);
     wire          exit_under = (exit_speed < ov_target_q);
