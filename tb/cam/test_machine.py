@@ -267,3 +267,48 @@ def test_the_shipped_default_is_the_example_machine():
 
     ex = Path(__file__).resolve().parents[2] / "examples" / "machine.toml"
     assert load_default() == dataclasses.replace(load(ex), source=load_default().source)
+
+
+# ------------------------------------------------------------------ issue 14: travel, positions
+
+def test_travel_limits_and_stored_positions_are_optional():
+    m = from_dict(base())
+    assert all(a.travel_min_mm == -float("inf") and a.travel_max_mm == float("inf")
+               for a in m.axes)
+    assert m.g28 == (0.0, 0.0, 0.0) and m.g30 == (0.0, 0.0, 0.0)
+    d = base()
+    d["axis"]["x"].update(travel_min_mm=-10, travel_max_mm=300.5)
+    d["axis"]["z"]["travel_max_mm"] = 0
+    d["positions"] = {"g28": [1, 2, 3], "g30": [0, 0, -5.5]}
+    m = from_dict(d)
+    assert (m.axis("x").travel_min_mm, m.axis("x").travel_max_mm) == (-10.0, 300.5)
+    assert (m.axis("z").travel_min_mm, m.axis("z").travel_max_mm) == (-float("inf"), 0.0)
+    assert m.g28 == (1.0, 2.0, 3.0) and m.g30 == (0.0, 0.0, -5.5)
+    # the parser takes the positions from the machine
+    assert parse("G28\nG30\nM2", positions=m).moves[1].end == (0.0, 0.0, -5.5)
+    assert load(EXAMPLE).g28 == (0.0, 0.0, 0.0)
+
+
+BAD_14 = [
+    (lambda d: _set(d, "axis.x.travel_min_mm", "low"), "axis.x.travel_min_mm",
+     "must be a number"),
+    (lambda d: _set(d, "axis.y.travel_max_mm", float("nan")), "axis.y.travel_max_mm",
+     "finite"),
+    (lambda d: (_set(d, "axis.z.travel_min_mm", 5), _set(d, "axis.z.travel_max_mm", 5)),
+     "axis.z.travel_max_mm", "must be above travel_min_mm"),
+    (lambda d: _set(d, "positions", 3), "positions", "must be a table"),
+    (lambda d: _set(d, "positions", {"g29": [0, 0, 0]}), "positions.g29", "unknown key"),
+    (lambda d: _set(d, "positions", {"g28": [0, 0]}), "positions.g28",
+     "array of three numbers"),
+    (lambda d: _set(d, "positions", {"g30": [0, "a", 0]}), "positions.g30",
+     "must be a number"),
+]
+
+
+@pytest.mark.parametrize("change, key, reason", BAD_14, ids=[b[1] + ":" + b[2] for b in BAD_14])
+def test_bad_travel_and_position_keys_name_the_key(change, key, reason):
+    d = copy.deepcopy(base())
+    change(d)
+    with pytest.raises(MachineError) as e:
+        from_dict(d, "mill.toml")
+    assert e.value.key == key and reason in e.value.reason, str(e.value)

@@ -549,3 +549,26 @@ def test_bolt_circle_example():
         assert arc.start[2] == -2 and arc.feed == 300
     assert moves[-1].end == (0.0, 0.0, 5.0)
     assert {b.lineno for b in out.blocks if b.text.startswith("G2 ")} == {10}
+
+
+def test_blocks_stream_to_on_block_and_state_answers_system_parameters():
+    """expand(on_block=, state=): each block reaches on_block before the next line runs, and
+    a state object answers LinuxCNC's machine-state parameters (None: not tracked)."""
+    seen = []
+
+    class State:
+        def numbered(self, n):
+            return len(seen) * 10.0 if n == 5420 else None
+
+        def named(self, name):
+            return -1.0 if name == "_x" else None
+
+    out = expand("G0 X1\nG0 X#5420\nG0 X[#<_x> + #5420]\nG0 Y#5221\nM2",
+                 on_block=lambda block, expanded: seen.append(block.text), state=State())
+    assert seen == ["G0 X1", "G0 X10", "G0 X19", "G0 Y0", "M2"]
+    assert [b.text for b in out.blocks] == seen
+    with pytest.raises(NgcError, match="line 1: #<_ccomp> is LinuxCNC machine"):
+        expand("G0 X#<_ccomp>\nM2", state=State())
+    # without a state the position is not tracked
+    with pytest.raises(NgcError, match="#5420 is machine state"):
+        expand("G0 X#5420\nM2")

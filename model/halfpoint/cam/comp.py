@@ -168,6 +168,7 @@ class _Stretch:
         self.closed = False
         self.entry_outside = True
         self.feed = entry.feed or next((m.feed for m in contour if m.feed), 0.0) or 1.0
+        self.trim_entry = False
 
     # -- 1. raw offset path ----------------------------------------------------------
     def _corner(self, prev: Piece, el, corner, src: int, feed: float, trim: bool,
@@ -270,6 +271,8 @@ class _Stretch:
                 continue
             prev = self.pieces[-1]
             is_first = first_piece is None
+            if is_first and self.trim_entry:
+                el = self._trim_entry(prev, el)
             if pending_gap:
                 # over a concave arc smaller than the tool: a straight bridge,
                 # kept or removed by the distance test like any piece
@@ -325,6 +328,48 @@ class _Stretch:
             self.pieces += extra
             self.pieces.append(Piece(el, x.lineno, EXIT, x.kind, x.feed, prev.z1, x.end[2]))
             self.has_exit = True
+
+    def _trim_entry(self, prev: Piece, el):
+        """LinuxCNC's inside corner after the entry move (interp_convert.cc,
+        convert_straight_comp2 / convert_arc_comp2): the entry's end moves
+        back along the entry's offset line (through its end, parallel to the
+        programmed entry) to where it meets the first block's offset, and the
+        block starts there.  A reversal onto an arc the tool runs outside
+        counts as an inside corner too (LinuxCNC's "h" shape).  When that
+        point lies behind the entry's start, LinuxCNC refuses the program
+        (interp_queue.cc, move_endpoint_and_flush: "Straight feed in concave
+        corner cannot be reached by the tool without gouging"): so does this.
+        Returns el trimmed; raises _NoTrim where the rule does not apply."""
+        e = self.entry
+        if e.kind == "arc" or prev.role != ENTRY:
+            raise _NoTrim
+        c, p0 = e.start[:2], e.end[:2]
+        d = math.dist(c, p0)
+        ux, uy = (p0[0] - c[0]) / d, (p0[1] - c[1]) / d
+        tb = el.tangent(0.0)
+        cross = ux * tb[1] - uy * tb[0]
+        dot = ux * tb[0] + uy * tb[1]
+        inside = (cross > 1e-12) if self.left else (cross < -1e-12)
+        if abs(cross) <= 1e-12 and dot < 0 and type(el) is Arc:
+            inside = (el.sweep > 0) != self.left        # the tool outside the arc
+        if not inside:
+            raise _NoTrim
+        end = prev.el.end
+        far = Line(end, (end[0] - ux * (d + 4 * self.r), end[1] - uy * (d + 4 * self.r)))
+        hits = [(ta, tb_, pt) for ta, tb_, pt in intersect(far, el) if tb_ < 1 - 1e-12]
+        if not hits:
+            raise _NoTrim
+        ta, tb_, mid = min(hits)
+        back = ta * far.length()
+        if back >= d - TOL:
+            raise GcodeError(e.lineno, f"the tool (radius {self.r:g} mm) cannot join the "
+                                       "contour from this entry move without gouging: the "
+                                       "inside corner lies behind the entry's start (LinuxCNC "
+                                       "refuses it too)")
+        prev.el = Line(prev.el.p0, mid, prev.el.src)
+        if type(el) is Line:
+            return Line(mid, el.p1, el.src)
+        return el.with_start(mid)
 
     # -- 2. cut at every crossing ------------------------------------------------------
     def cut(self):
@@ -686,7 +731,7 @@ class _Stretch:
                 else:
                     groups.append([p])
         out: list[Move] = []
-        self.path, self.path_roles = [], []
+        self.path, self.path_roles, self.path_out = [], [], []
         emitted = set()
         if len(groups) == len(self.chain):
             self.path_arr = self.arr[self.chain]
@@ -703,6 +748,7 @@ class _Stretch:
                          first.src, first.el.corner)
             self.path.append(el)
             self.path_roles.append(first.role)
+            self.path_out.append(len(out))
             if type(el) is Line:
                 (sx, sy), t = el.p0, el.p1
                 kind = first.kind if first.kind != "arc" else "line"
@@ -723,6 +769,104 @@ class _Stretch:
         # Z-only moves on pieces the path passed by keep their order at its end
         self.stray = [ev for p in pieces if p.events for ev in p.events if id(ev) not in emitted]
         return out
+
+
+class _NoTrim(Exception):
+    """The LinuxCNC entry trim does not apply to this entry."""
+
+
+def _stretch(entry, contour, side, r, exit_move, trim_entry):
+    """Build, cut, classify and follow one stretch; (stretch, programmed
+    elements, their array, the arc-end slack)."""
+    st = _Stretch(entry, contour, side, r, exit_move)
+    st.trim_entry = trim_entry
+    st.build()
+    st.cut()
+    programmed = list(st.prog_of.values())
+    prog_arr = pack(programmed)
+    # an arc runs about its centre with its start radius; its end may be
+    # a rounding error (at most LinuxCNC's arc tolerance) away from where
+    # the next block starts: the checks allow that much on top of TOL
+    slack = float(np.hypot(prog_arr[:-1, X1] - prog_arr[1:, X0],
+                           prog_arr[:-1, Y1] - prog_arr[1:, Y0]).max()) \
+        if len(programmed) > 1 else 0.0
+    st.slack = slack
+    st.classify(programmed, prog_arr)
+    st.follow()
+    return st, programmed, prog_arr, slack
+
+
+def _violations(path, roles, programmed, prog_arr, r, tol, arr=None):
+    """(gouges, self-crossings) of the path between the entry and exit moves,
+    as path indices: gouges as (path index, programmed index, distance),
+    crossings as (path index, path index)."""
+    keep = [k for k, role in enumerate(roles) if role not in (ENTRY, EXIT)]
+    body = [path[k] for k in keep]
+    body_arr = arr[keep] if arr is not None else pack(body)
+    bad = check.gouges(body, programmed, r, tol, arrays=(body_arr, prog_arr))
+    crossings = check.self_crossings(body, arr=body_arr) if not bad else []
+    return ([(keep[i], j, d) for i, j, d in bad],
+            [(keep[i], keep[j]) for i, j in crossings])
+
+
+def _checked(st, out, programmed, prog_arr, r, tol, strict):
+    """Run the independent check on a stretch's result: (moves, warning).
+
+    A gouge or self-crossing is an error naming the programmed lines; without
+    ``strict``, the offending stretch of the path (from the first element
+    involved to the last) is removed and bridged by a straight move where
+    the result passes the same check again (the warning names the lines)."""
+    path, roles = st.path, st.path_roles
+    bad, crossings = _violations(path, roles, programmed, prog_arr, r, tol, st.path_arr)
+    if not bad and not crossings:
+        return out, None
+
+    def error():
+        if bad:
+            worst = min(bad, key=lambda b: b[2])
+            lines = sorted({programmed[b[1]].src for b in bad} | {path[b[0]].src for b in bad})
+            return GcodeError(lines[0], f"the compensated path comes {r - worst[2]:.3g} mm too "
+                                        f"close to the contour near {_line_ranges(lines)} "
+                                        f"(tool radius {r:g} mm)")
+        lines = sorted({path[i].src for i, _ in crossings} | {path[j].src for _, j in crossings})
+        return GcodeError(lines[0], f"the compensated path crosses itself near "
+                                    f"{_line_ranges(lines)}")
+
+    if strict:
+        raise error()
+    ks = [b[0] for b in bad] + [k for c in crossings for k in c]
+    a, b = min(ks), max(ks)
+    if any(role in (ENTRY, EXIT) for role in roles[a:b + 1]):
+        raise error()
+    p0, p1 = path[a].start, path[b].end
+    bridge = [Line(p0, p1, path[a].src)] if not _close(p0, p1, 1e-9) else []
+    new_path = path[:a] + bridge + path[b + 1:]
+    new_roles = roles[:a] + [CONNECTOR] * len(bridge) + roles[b + 1:]
+    bad2, cross2 = _violations(new_path, new_roles, programmed, prog_arr, r, tol)
+    if bad2 or cross2:
+        raise error()
+    i0, i1 = st.path_out[a], st.path_out[b + 1] if b + 1 < len(path) else len(out)
+    removed = out[i0:i1]
+    lines = sorted({m.lineno for m in removed})
+    # Z-only moves inside the stretch keep their order after the bridge
+    events = [m for m in removed if m.kind != "arc" and _close(m.start[:2], m.end[:2], 1e-12)]
+    z, z_end = out[i0].start[2], out[i1 - 1].end[2]
+    mid = []
+    if bridge:
+        m0 = out[i0]
+        z1 = z if events else z_end
+        mid.append(Move("line", (p0[0], p0[1], z), (p1[0], p1[1], z1), m0.lineno,
+                        m0.feed or st.feed))
+        z = z1
+    for ev in events + ([out[i1 - 1]] if events else []):
+        if ev.end[2] != z:
+            mid.append(Move("line" if ev.kind == "arc" else ev.kind, (p1[0], p1[1], z),
+                            (p1[0], p1[1], ev.end[2]), ev.lineno, ev.feed or st.feed))
+            z = ev.end[2]
+    what = "too close to the contour" if bad else "crossing itself"
+    note = (f"{_line_ranges(lines)}: path removed (it came {what}) and bridged by a straight "
+            f"move that the tool (radius {r:g} mm) can follow")
+    return out[:i0] + mid + out[i1:], note
 
 
 def compensate(moves: list[Move], window: int = 5, strict: bool = False) -> CompResult:
@@ -767,38 +911,24 @@ def compensate(moves: list[Move], window: int = 5, strict: bool = False) -> Comp
                 raise GcodeError(moves[k].lineno,
                                  "cutter compensation on for the lead-in move only")
             raise GcodeError(entry.lineno, "cutter compensation on for the lead-in move only")
-        st = _Stretch(entry, contour, side, r, moves[k] if k < n_moves else None)
-        st.build()
-        st.cut()
-        programmed = list(st.prog_of.values())
-        prog_arr = pack(programmed)
-        # an arc runs about its centre with its start radius; its end may be
-        # a rounding error (at most LinuxCNC's arc tolerance) away from where
-        # the next block starts: the checks allow that much on top of TOL
-        slack = float(np.hypot(prog_arr[:-1, X1] - prog_arr[1:, X0],
-                               prog_arr[:-1, Y1] - prog_arr[1:, Y0]).max()) \
-            if len(programmed) > 1 else 0.0
-        st.slack = slack
-        st.classify(programmed, prog_arr)
-        st.follow()
+        exit_move = moves[k] if k < n_moves else None
+        try:
+            st, programmed, prog_arr, slack = _stretch(entry, contour, side, r, exit_move, False)
+        except GcodeError as first_error:
+            # the path stopped at an inside corner behind the entry: the
+            # entry's end moved back along its offset onto the contour's
+            # offset, as LinuxCNC moves it (an error naming the entry move
+            # when that lies behind the entry's start)
+            try:
+                st, programmed, prog_arr, slack = _stretch(entry, contour, side, r, exit_move,
+                                                           True)
+            except _NoTrim:
+                raise first_error from None
         out = st.emit()
         # the independent check of the result (entry excluded)
-        keep = [k for k, role in enumerate(st.path_roles) if role not in (ENTRY, EXIT)]
-        body = [st.path[k] for k in keep]
-        body_arr = st.path_arr[keep] if st.path_arr is not None else pack(body)
-        bad = check.gouges(body, programmed, r, TOL + slack, arrays=(body_arr, prog_arr))
-        if bad:
-            worst = min(bad, key=lambda b: b[2])
-            lines = sorted({programmed[b[1]].src for b in bad} | {body[b[0]].src for b in bad})
-            raise GcodeError(lines[0], f"the compensated path comes {r - worst[2]:.3g} mm too "
-                                       f"close to the contour near {_line_ranges(lines)} "
-                                       f"(tool radius {r:g} mm)")
-        crossings = check.self_crossings(body, arr=body_arr)
-        if crossings:
-            lines = sorted({body[i].src for i, _ in crossings} |
-                           {body[j].src for _, j in crossings})
-            raise GcodeError(lines[0], f"the compensated path crosses itself near "
-                                       f"{_line_ranges(lines)}")
+        out, note = _checked(st, out, programmed, prog_arr, r, TOL + slack, strict)
+        if note:
+            warnings.append(note)
         present = {p.src for kk in st.chain for p in [st.pieces[kk]] if p.role == CONTOUR}
         skipped = sorted({c.lineno for c in st.contour if c.kind == "arc" or
                           not _close(c.start[:2], c.end[:2], 1e-12)} - present - {entry.lineno})

@@ -16,7 +16,15 @@ junction_deviation_mm = 0.01
 ```
 
 Every key in the example above without a ``_ns`` suffix is required; the four
-timing keys are optional per axis.  A bad file raises ``MachineError`` whose
+timing keys are optional per axis.  Also optional:
+
+* per axis ``travel_min_mm`` / ``travel_max_mm``: the axis's travel in machine
+  coordinates (absent: unlimited on that side); ``halfpoint.cam.summary.check_travel``
+  refuses a program that leaves it.  ``travel_min_mm`` must be below ``travel_max_mm``.
+* ``[positions]`` ``g28 = [x, y, z]`` and ``g30 = [x, y, z]``: the stored G28 and G30
+  positions in machine mm (LinuxCNC keeps them in parameters #5161-#5163 and
+  #5181-#5183); default the machine origin.  ``halfpoint.cam.gcode.parse`` takes them
+  with ``positions=machine``.  A bad file raises ``MachineError`` whose
 message starts with the dotted key (``axis.x.max_accel_mm_s2: must be > 0``):
 an unknown key anywhere, a missing required value, a wrong type (``true`` is
 not a number; ``clock_hz`` must be a whole number), a limit <= 0, a negative
@@ -68,6 +76,8 @@ TIMING_KEYS = ("steplen_ns", "stepspace_ns", "dirsetup_ns", "dirhold_ns")
 TIMING_DEFAULTS_NS = {"steplen_ns": 2000, "stepspace_ns": 2000,
                       "dirsetup_ns": 5000, "dirhold_ns": 5000}
 AXIS_REQUIRED = ("blu_mm", "max_velocity_mm_s", "max_accel_mm_s2")
+TRAVEL_KEYS = ("travel_min_mm", "travel_max_mm")
+POSITION_KEYS = ("g28", "g30")
 PLANNER_REQUIRED = ("junction_deviation_mm",)
 # the core's STEP/DIR timing registers are TW bits wide (rtl/halfpoint_core.v, default 16)
 TIMING_WIDTH = 16
@@ -102,6 +112,8 @@ class Axis:
     max_accel_mm_s2: float
     timing: StepTiming
     timing_ns: dict
+    travel_min_mm: float = -math.inf     # machine coordinates; -inf / inf: unlimited
+    travel_max_mm: float = math.inf
 
     def max_step_rate(self, clock_hz: int) -> float:
         """Fastest STEP rate the timing allows, steps per second."""
@@ -114,6 +126,8 @@ class Machine:
     axes: tuple          # (Axis x, Axis y, Axis z)
     junction_deviation_mm: float
     source: str = ""
+    g28: tuple = (0.0, 0.0, 0.0)        # stored G28 / G30 positions, machine mm
+    g30: tuple = (0.0, 0.0, 0.0)
 
     def axis(self, name: str) -> Axis:
         return self.axes[AXES.index(name)]
@@ -175,7 +189,7 @@ def _missing(table: dict, required, prefix: str, source: str) -> None:
 def from_dict(data: dict, source: str = "") -> Machine:
     """Check a parsed machine file and build the ``Machine`` (see the module docstring)."""
     _table(data, "machine file", source)
-    _unknown(data, ("clock_hz", "axis", "planner"), "", source)
+    _unknown(data, ("clock_hz", "axis", "planner", "positions"), "", source)
     _missing(data, ("clock_hz", "axis", "planner"), "", source)
     clock = _number(data["clock_hz"], "clock_hz", source)
     if isinstance(clock, float):
@@ -192,7 +206,7 @@ def from_dict(data: dict, source: str = "") -> Machine:
     for name in AXES:
         prefix = f"axis.{name}."
         t = _table(axes_t[name], f"axis.{name}", source)
-        _unknown(t, AXIS_REQUIRED + TIMING_KEYS, prefix, source)
+        _unknown(t, AXIS_REQUIRED + TIMING_KEYS + TRAVEL_KEYS, prefix, source)
         _missing(t, AXIS_REQUIRED, prefix, source)
         blu = _positive(t["blu_mm"], prefix + "blu_mm", source)
         vmax = _positive(t["max_velocity_mm_s"], prefix + "max_velocity_mm_s", source)
@@ -211,7 +225,14 @@ def from_dict(data: dict, source: str = "") -> Machine:
                                    f"({(1 << TIMING_WIDTH) - 1})", source)
             ticks[k[:-3]] = n
         timing = StepTiming(**ticks)
-        axis = Axis(name, blu, vmax, amax, timing, ns)
+        lo = float(_number(t["travel_min_mm"], prefix + "travel_min_mm", source)
+                   if "travel_min_mm" in t else -math.inf)
+        hi = float(_number(t["travel_max_mm"], prefix + "travel_max_mm", source)
+                   if "travel_max_mm" in t else math.inf)
+        if lo >= hi:
+            raise MachineError(prefix + "travel_max_mm", f"must be above travel_min_mm "
+                               f"({lo!r}), got {hi!r}", source)
+        axis = Axis(name, blu, vmax, amax, timing, ns, lo, hi)
         rate = axis.max_step_rate(clock)
         need = vmax / blu
         if need > rate:
@@ -230,7 +251,17 @@ def from_dict(data: dict, source: str = "") -> Machine:
     if jd < 0:
         raise MachineError("planner.junction_deviation_mm",
                            f"must be >= 0 (0 stops at every corner), got {jd!r}", source)
-    return Machine(clock, tuple(axes), float(jd), source)
+    positions = {}
+    if "positions" in data:
+        pos_t = _table(data["positions"], "positions", source)
+        _unknown(pos_t, POSITION_KEYS, "positions.", source)
+        for k, v in pos_t.items():
+            key = f"positions.{k}"
+            if not isinstance(v, list) or len(v) != 3:
+                raise MachineError(key, f"must be an array of three numbers [x, y, z] in mm, "
+                                   f"got {v!r}", source)
+            positions[k] = tuple(float(_number(c, key, source)) for c in v)
+    return Machine(clock, tuple(axes), float(jd), source, **positions)
 
 
 def loads(text: str, source: str = "") -> Machine:

@@ -47,16 +47,23 @@ chapters of the LinuxCNC manual):
 * The program ends at an executed M2 or M30 (inside a subroutine too) or at
   the closing ``%``; nothing after a closing ``%`` is read.
 * Predefined read-only parameters: ``#<_value>``, ``#<_value_returned>``,
-  ``#<_call_level>``, ``#<_line>``; the system range ``#5161``-``#5390``
-  (G28/G30 homes, G92, the coordinate systems) reads 0 -- halfpoint has one
-  work offset, G54, and it is zero -- except ``#5220`` (G54 in use) = 1.
+  ``#<_call_level>``, ``#<_line>``.  Machine state comes from ``state`` when
+  the caller gives one (``halfpoint.cam.gcode.parse`` does: the block parser
+  runs each block as it is emitted, through ``on_block``, so a line reads the
+  state the blocks before it left): G28/G30 positions ``#5161``-``#5169`` and
+  ``#5181``-``#5189``, G92 ``#5210``-``#5219``, the coordinate system in use
+  ``#5220`` and the systems' offsets ``#5221``-``#5390``, the tool ``#5400``
+  and its offsets ``#5401``-``#5409``, the position ``#5420``-``#5428``, and
+  the named ``#<_x>``, ``#<_abs_x>``, ``#<_metric>``, ``#<_current_tool>``...
+  (``halfpoint.cam.gcode`` lists them), all in the program's current units.
+  Without ``state`` the system range ``#5161``-``#5390`` reads 0 except
+  ``#5220`` = 1 (G54, every offset zero).
 
 Where this differs from LinuxCNC (the refusals are errors naming the line):
 
-* Machine state LinuxCNC's parameters report (position ``#5420``-``#5428``
-  and ``#<_x>``..., modal state ``#<_metric>``..., tool ``#5400``..., probe
-  results, INI and HAL values) is not tracked: reading it is an error, and
-  ``EXISTS`` of an INI or HAL name gives 0.
+* Machine state the block parser does not track (probe results, pockets,
+  overrides, INI and HAL values; without ``state`` also position, modal state
+  and tool) is an error to read, and ``EXISTS`` of an INI or HAL name gives 0.
   Writing a numbered parameter above ``#5000`` (offsets, homes) is an error.
 * ``MOD`` by zero is an error (LinuxCNC yields a NaN, then fails later).
 * The whole file is checked for O-word structure before it runs (an
@@ -722,8 +729,10 @@ class _Frame:
 
 class _Interpreter:
     def __init__(self, source: str, block_delete: bool, search_path: Sequence,
-                 max_depth: int, max_iterations: int):
+                 max_depth: int, max_iterations: int, on_block=None, state=None):
         self.source = source
+        self.on_block = on_block
+        self.state = state
         self.block_delete = block_delete
         self.search_path = [Path(p) for p in search_path]
         self.max_depth = max_depth
@@ -744,6 +753,10 @@ class _Interpreter:
     def get_numbered(self, n: int, line: _Line) -> float:
         if 1 <= n <= USER_PARAMETERS:
             return self.numbered[n]
+        if self.state is not None:
+            value = self.state.numbered(n)
+            if value is not None:
+                return float(value)
         if 5161 <= n <= 5390:
             return 1.0 if n == 5220 else 0.0
         if n == 5599:
@@ -780,6 +793,10 @@ class _Interpreter:
         return name in self.frames[-1].local
 
     def get_named(self, name: str, line: _Line) -> float:
+        if self.state is not None and name in _PREDEFINED and name not in _SUPPORTED:
+            value = self.state.named(name)
+            if value is not None:
+                return float(value)
         if name in _SUPPORTED:
             return self.predefined(name, line)
         if name in _PREDEFINED or name.startswith(("_ini[", "_hal[")):
@@ -983,7 +1000,10 @@ class _Interpreter:
             raise _End
 
     def emit(self, line: _Line, text: str):
-        self.out.blocks.append(Block(line.lineno, text, line.source))
+        block = Block(line.lineno, text, line.source)
+        self.out.blocks.append(block)
+        if self.on_block is not None:
+            self.on_block(block, self.out)
 
     def message(self, line: _Line):
         if line.active is None:
@@ -1036,7 +1056,9 @@ class _Interpreter:
 def expand(text: str, source: str = "", *, block_delete: bool = True,
            search_path: Sequence[str | Path] = (),
            parameters: Mapping[int | str, float] | None = None,
-           max_depth: int = MAX_DEPTH, max_iterations: int = MAX_ITERATIONS) -> Expanded:
+           max_depth: int = MAX_DEPTH, max_iterations: int = MAX_ITERATIONS,
+           on_block: Callable[[Block, Expanded], None] | None = None,
+           state=None) -> Expanded:
     """Run a LinuxCNC program's parameters, expressions and O-word control flow.
 
     ``text``: the program; ``source``: its file name (kept out of the main
@@ -1045,10 +1067,16 @@ def expand(text: str, source: str = "", *, block_delete: bool = True,
     with ``/`` are skipped).  ``search_path``: folders searched for
     ``<name>.ngc`` when ``o<name> call`` names a subroutine the program does not
     define.  ``parameters``: initial values, numbered (int keys, 1..5000) or
-    global named (``"_name"`` keys).  Returns the executed blocks and messages;
-    raises ``NgcError`` (a ``GcodeError``) naming the line and the bad token.
+    global named (``"_name"`` keys).  ``on_block(block, expanded)``: called with
+    each block as it is executed (before the next line runs; ``expanded`` holds
+    ``opening`` and ``line_count``); what it raises ends the run.  ``state``:
+    the machine state behind LinuxCNC's system parameters, an object with
+    ``numbered(n)`` and ``named(name)`` returning a value or None (not tracked).
+    Returns the executed blocks and messages; raises ``NgcError`` (a
+    ``GcodeError``) naming the line and the bad token.
     """
-    interp = _Interpreter(source, block_delete, search_path, max_depth, max_iterations)
+    interp = _Interpreter(source, block_delete, search_path, max_depth, max_iterations,
+                          on_block, state)
     nowhere = _Line(0, "", "")
     for key, value in (parameters or {}).items():
         if isinstance(key, int):

@@ -3,16 +3,26 @@
 
 * One BLU per axis (default 0.001 mm); X and Y must share it (arcs are
   circles on the lattice).
-* Every target point is rounded to the lattice and every command is relative
-  to where the core really is, so segments chain exactly and no rounding error
-  accumulates.
-* An arc whose sagitta is under a quarter BLU is run as its chord (a line):
-  on the lattice the two are the same within that quarter BLU.
-* Arcs: the centre is rounded to the lattice; the radius is the distance from
-  the current lattice point (the core's definition); the end is the lattice
-  point at the programmed end's angle that the core accepts, and the current
-  point afterwards is where the core's arc unit will actually stop (the
-  model's prediction, within 1 BLU per axis of that end).
+* Every lattice point the core visits lies within 1 BLU of the programmed
+  block its command comes from, however many blocks follow each other (the
+  bound; tb/cam/test_quant_bound.py checks it on the core model's positions).
+  Every command is relative to where the core really is, and every target is
+  chosen against the programmed absolute geometry, so nothing accumulates.
+* Lines: the end is the nearest lattice point, or, where that would let the
+  line stray too far, the one on the line's own lattice row (slid along the
+  line to a whole major coordinate, then rounded: within 0.5 cos(angle) of
+  it).  The line unit's points lie within 0.5 BLU along the minor axis of
+  the straight line between its lattice ends, so a line strays at most its
+  ends' offsets plus 0.5 cos(angle); when the core starts too far from a
+  line (after an arc), a correcting step onto the line's row goes first.
+* An arc whose sagitta is under a quarter BLU is run as its chord (a line,
+  held within what the sagitta leaves of the bound).
+* Arcs (``_Arcs``): cut into pieces, each with its own lattice centre and
+  start chosen against the programmed circle, joined by correcting lines of
+  a few BLU; every lattice point of every piece and correcting line is
+  walked and measured (the walk that predicts the core's stop), and a piece
+  with a point beyond 1 BLU is halved.  About 2.3 commands per arc on chains
+  of off-lattice semicircles of 20-120 BLU.
 * Every point and centre must fit the core's signed coordinate width; the
   error names the line.
 """
@@ -23,9 +33,11 @@ import math
 from dataclasses import dataclass, field
 
 from ..spec import encoding as enc
-from ..spec.arc import arc_stop, lattice_point_near, validate
+from ..spec.arc import ArcRun, lattice_point_near, validate
+from ..spec.line import line_steps
 from ..spec.rules import field_range, fits
 from .gcode import GcodeError, Move
+from .geom import Arc
 
 DEFAULT_BLU = 0.001
 # lattice points and centres keep one value free at each end of the field
@@ -39,6 +51,19 @@ class Quantised:
     src: list[Move] = field(default_factory=list)            # the move behind each command
     end: tuple[int, int, int] = (0, 0, 0)                     # lattice position at the end
     corrections: int = 0                                      # correcting lines inserted
+    arcs: int = 0                                             # arc commands
+    fallback: int = 0                                         # single-step lines for arcs
+
+
+def _flat(m: Move):
+    """Sagitta (mm) of an arc taken the short way round (at most half a
+    turn), else None."""
+    if m.start[:2] == m.end[:2] or not _minor(m):
+        return None
+    r_mm = math.hypot(m.start[0] - m.center[0], m.start[1] - m.center[1])
+    chord = math.hypot(m.end[0] - m.start[0], m.end[1] - m.start[1])
+    half = min(chord / (2 * r_mm), 1.0) if r_mm > 0 else 1.0
+    return r_mm * (1 - math.sqrt(1 - half * half))
 
 
 def _minor(m: Move) -> bool:
@@ -49,41 +74,132 @@ def _minor(m: Move) -> bool:
     return (cross <= 0) if m.cw else (cross >= 0)
 
 
-def _place_arc(m: Move, b: float, cur):
-    """Lattice centre and centre-relative start of an arc: of the lattice
-    points around the programmed centre and start, the pair whose circle
-    stays nearest the programmed arc over the arc's own angles (the radial
-    error at angle phi is rho - R + |dc| cos(phi - psi) for a centre offset
-    dc at angle psi); the current position wins ties, so a chain that is on
-    track stays there."""
-    pcx, pcy = m.center[0] / b, m.center[1] / b
-    psx, psy = m.start[0] / b, m.start[1] / b
-    radius = math.hypot(psx - pcx, psy - pcy)
-    a0 = math.atan2(psy - pcy, psx - pcx)
-    a1 = math.atan2(m.end[1] / b - pcy, m.end[0] / b - pcx)
-    if m.start[:2] == m.end[:2]:
-        sweep = -2 * math.pi if m.cw else 2 * math.pi
-    else:
-        sweep = -((a0 - a1) % (2 * math.pi)) if m.cw else (a1 - a0) % (2 * math.pi)
-    angles = [a0 + sweep * k / 8 for k in range(9)]
-    cosines = [(math.cos(t), math.sin(t)) for t in angles]
-    best = None
-    for cx in {math.floor(pcx), math.ceil(pcx)}:
-        for cy in {math.floor(pcy), math.ceil(pcy)}:
-            dcx, dcy = cx - pcx, cy - pcy
-            for sx in {math.floor(psx), math.ceil(psx), cur[0]}:
-                for sy in {math.floor(psy), math.ceil(psy), cur[1]}:
-                    if abs(sx - psx) > 1 or abs(sy - psy) > 1 or (sx == cx and sy == cy):
+# Arcs are placed against the programmed absolute geometry (see _Arcs).
+BOUND = 1.0             # BLU: every lattice point of an arc within this of the programmed arc
+PIECE_TARGET = 0.5      # BLU: a piece's lattice circle predicted within this of the programmed one
+ACCEPT_CUR = 0.1        # BLU: the current position is kept as a piece's start this close
+LINE_BOUND = 1.0        # BLU: a line's start is corrected when it would stray further
+MIN_SPLIT = 6.0         # BLU: pieces shorter than this are not split again
+_SAMPLES = 7            # angles per piece at which a candidate circle is predicted
+
+
+class _Arcs:
+    """One programmed arc on the lattice, as one or more arc commands.
+
+    The core runs an arc about an integer centre c from an integer start s,
+    with the radius R0 = |s - c| of that start, every lattice point within
+    0.5 BLU of that circle.  The programmed arc has a real centre P and radius
+    R; at angle phi the core's circle lies
+
+        g(phi) = sqrt(R0^2 + 2 R0 (c - P).u(phi) + |c - P|^2) - R
+
+    from it (u the unit vector at phi), which varies by up to 2|c - P| round
+    the arc.  So the arc is cut into pieces over which g varies little, and
+    each piece gets its own c (one of the lattice points round P) and s (one
+    of the lattice points round the programmed point where the piece starts,
+    or where the core already is) that keep |g| smallest over the piece's
+    angles; a piece predicted beyond PIECE_TARGET is halved.  When the core's
+    stop is not the next piece's start, a correcting line goes there.
+
+    The quantiser then walks every lattice point of each piece (the same walk
+    that predicts the core's stop) and of each correcting line, and measures
+    its distance to the programmed arc: a piece with a point beyond BOUND is
+    halved too, and one too short to halve is sent as single-step lines to
+    the lattice points nearest the programmed arc.  The bound therefore holds
+    by construction, not by estimate."""
+
+    def __init__(self, m: Move, b: float):
+        self.m = m
+        self.pcx, self.pcy = m.center[0] / b, m.center[1] / b
+        el = Arc.from_points((self.pcx, self.pcy), (m.start[0] / b, m.start[1] / b),
+                             (m.end[0] / b, m.end[1] / b), m.cw)
+        self.el = el
+        self.r = el.r
+        self.a0, self.sweep = el.a0, el.sweep
+        self.full = m.start[:2] == m.end[:2]
+        self.ps = el.start
+        self.pe = (m.end[0] / b, m.end[1] / b)
+        self.worst = 0.0
+
+    def dist(self, x: float, y: float) -> float:
+        """Distance (BLU) of a lattice point from the programmed arc: radial
+        in the arc's span, else to the nearer end (exact near the ends)."""
+        dx, dy = x - self.pcx, y - self.pcy
+        e = abs(math.sqrt(dx * dx + dy * dy) - self.r)
+        ps, pe = self.ps, self.pe
+        if abs(x - ps[0]) + abs(y - ps[1]) < 6 or abs(x - pe[0]) + abs(y - pe[1]) < 6:
+            return self.el.distance((x, y))
+        return e
+
+    def angle(self, t: float) -> float:
+        return self.a0 + self.sweep * t
+
+    def place(self, t0: float, t1: float, cur):
+        """(predicted error, centre, start) of the best circle for a piece."""
+        pcx, pcy, r = self.pcx, self.pcy, self.r
+        a, b = self.angle(t0), self.angle(t1)
+        dirs = [(math.cos(a + (b - a) * k / (_SAMPLES - 1)),
+                 math.sin(a + (b - a) * k / (_SAMPLES - 1))) for k in range(_SAMPLES)]
+        qx, qy = pcx + r * dirs[0][0], pcy + r * dirs[0][1]
+        starts = {(x, y) for x in range(math.floor(qx) - 1, math.ceil(qx) + 2)
+                  for y in range(math.floor(qy) - 1, math.ceil(qy) + 2)
+                  if (x - qx) ** 2 + (y - qy) ** 2 <= 2.25}
+        starts.add((cur[0], cur[1]))
+        best = None
+        for cx in {math.floor(pcx), math.ceil(pcx)}:
+            for cy in {math.floor(pcy), math.ceil(pcy)}:
+                dx, dy = cx - pcx, cy - pcy
+                d2 = dx * dx + dy * dy
+                proj = [dx * u + dy * v for u, v in dirs]
+                for sx, sy in starts:
+                    r02 = (sx - cx) ** 2 + (sy - cy) ** 2
+                    if r02 == 0:
                         continue
-                    dr = math.hypot(sx - cx, sy - cy) - radius
-                    err = max(abs(dr + dcx * u + dcy * v) for u, v in cosines)
-                    key = (round(err, 9), (sx, sy) != (cur[0], cur[1]),
-                           math.hypot(sx - psx, sy - psy))
+                    r0 = math.sqrt(r02)
+                    err = max(abs(math.sqrt(max(r02 + 2 * r0 * p + d2, 0.0)) - r)
+                              for p in proj)
+                    err = max(err, self.dist(sx, sy))
+                    # within ACCEPT_CUR, staying where the core is (no
+                    # correcting line) comes first
+                    far = err > ACCEPT_CUR
+                    key = (far, not far and (sx, sy) != (cur[0], cur[1]), err)
                     if best is None or key < best[0]:
-                        best = (key, (cx, cy), (sx - cx, sy - cy))
-    if best is None:
-        raise GcodeError(m.lineno, "arc radius is below one BLU")
-    return best[1], best[2]
+                        best = (key, (cx, cy), (sx, sy))
+        if best is None:
+            return None
+        return best[0][1], best[1], best[2]
+
+    def walk(self, c, s, e, cw):
+        """(stop x, stop y, moves, worst distance) of the core's arc from s
+        to e about c (absolute lattice points), every point measured."""
+        run = ArcRun(s[0] - c[0], s[1] - c[1], e[0] - c[0], e[1] - c[1], cw, check=False)
+        adv = run.advance
+        ox, oy = c[0] - self.pcx, c[1] - self.pcy
+        r = self.r
+        (sx, sy), (ex, ey) = self.ps, self.pe
+        ax, ay = c[0], c[1]
+        worst = 0.0
+        while not run.done:
+            adv()
+            x, y = run.x, run.y
+            dx, dy = x + ox, y + oy
+            d = abs(math.sqrt(dx * dx + dy * dy) - r)
+            px, py = x + ax, y + ay
+            if abs(px - sx) + abs(py - sy) < 6 or abs(px - ex) + abs(py - ey) < 6:
+                d = self.el.distance((px, py))
+            if d > worst:
+                worst = d
+        return run.x + ax, run.y + ay, run.moves, worst
+
+    def line_worst(self, a, b) -> float:
+        """Worst distance of the lattice points of a line from a to b."""
+        x, y = a[0], a[1]
+        worst = 0.0
+        for sx, sy in line_steps([b[0] - a[0], b[1] - a[1]]):
+            x += sx
+            y += sy
+            worst = max(worst, self.dist(x, y))
+        return worst
 
 
 def _end_point(r2: int, ex: float, ey: float):
@@ -98,6 +214,121 @@ def _end_point(r2: int, ex: float, ey: float):
             if best is None or key < best[0]:
                 best = (key, (x, y))
     return best[1]
+
+
+def _line_start_off(cur, sx: float, sy: float, ex: float, ey: float, bound: float) -> bool:
+    """Would a line from the lattice point cur to the programmed end (ex, ey)
+    stray more than ``bound`` from the programmed line from (sx, sy)?  The
+    line unit's points lie within 0.5 BLU along the minor axis of the straight
+    line between its lattice ends, so near cur they are off by cur's offset
+    plus that (0.5 cos of the angle to the major axis)."""
+    ux, uy = ex - sx, ey - sy
+    n = math.hypot(ux, uy)
+    if n == 0.0:
+        return math.hypot(cur[0] - sx, cur[1] - sy) > bound
+    off = abs((cur[0] - sx) * uy - (cur[1] - sy) * ux) / n
+    along = ((cur[0] - sx) * ux + (cur[1] - sy) * uy) / n
+    return off + 0.5 * max(abs(ux), abs(uy)) / n > bound or along < -bound
+
+
+def _on_line(sx: float, sy: float, ex: float, ey: float, px: float, py: float):
+    """Lattice point near the point (px, py) of the line from (sx, sy) to
+    (ex, ey): slid along the line to the nearest whole major coordinate, then
+    the minor one rounded, so it lies within 0.5 cos(angle to the major axis)
+    of the line and within 0.87 BLU of (px, py)."""
+    ux, uy = ex - sx, ey - sy
+    if abs(ux) >= abs(uy):
+        x = round(px)
+        return x, round(py + (x - px) * uy / ux)
+    y = round(py)
+    return round(px + (y - py) * ux / uy), y
+
+
+def _line_cmd(q: Quantised, m: Move, line_head: int, cur, to, correction: bool):
+    dx, dy = to[0] - cur[0], to[1] - cur[1]
+    if not (dx or dy):
+        return cur
+    mask = 0xFFFFFFFF
+    q.cmds.append(line_head | ((dx & mask) << 64) | ((dy & mask) << 96))
+    q.moves_per_cmd.append(max(abs(dx), abs(dy)))
+    q.src.append(m)
+    q.corrections += correction
+    return [to[0], to[1], cur[2]]
+
+
+def _arc_cmds(q: Quantised, m: Move, b: float, cur, width: int, rate_q: int, line_head: int):
+    """The commands of one programmed arc (see _Arcs); returns the position after them."""
+    A = _Arcs(m, b)
+    cw = int(m.cw)
+    stack = [(0.0, 1.0)]
+    while stack:
+        t0, t1 = stack.pop()
+        length = abs(A.sweep) * (t1 - t0) * A.r
+        mid = (t0 + t1) / 2
+        placed = A.place(t0, t1, cur)
+        if placed is None:
+            raise GcodeError(m.lineno, "arc radius is below one BLU")
+        err, c, s = placed
+        if err > PIECE_TARGET and length > MIN_SPLIT:
+            stack += [(mid, t1), (t0, mid)]
+            continue
+        if not all(fits(v, width, LATTICE_MARGIN) for v in c):
+            raise GcodeError(m.lineno, f"arc centre outside the core's {width}-bit range "
+                                       "at this BLU")
+        xs, ys = s[0] - c[0], s[1] - c[1]
+        r2 = xs * xs + ys * ys
+        if A.full and t0 == 0.0 and t1 == 1.0:
+            xe, ye = xs, ys             # a programmed full circle in one piece
+        else:
+            ang = A.angle(t1)
+            ex = A.pcx + A.r * math.cos(ang) - c[0]
+            ey = A.pcy + A.r * math.sin(ang) - c[1]
+            if t1 == 1.0 and not A.full:
+                ex, ey = A.pe[0] - c[0], A.pe[1] - c[1]
+            xe, ye = _end_point(r2, ex, ey)
+            if validate(xs, ys, xe, ye, width):
+                xe, ye = lattice_point_near(r2, math.atan2(ey, ex))
+            if (xe, ye) == (xs, ys):
+                continue                # a piece shorter than the lattice: no motion
+        if validate(xs, ys, xe, ye, width):
+            raise GcodeError(m.lineno, "arc cannot be put on the lattice "
+                                       "(radius too large for the width?)")
+        stop_x, stop_y, n, worst = A.walk(c, s, (c[0] + xe, c[1] + ye), cw)
+        if s != (cur[0], cur[1]):
+            worst = max(worst, A.line_worst(cur, s))
+        if worst > BOUND:
+            if length > MIN_SPLIT:
+                stack += [(mid, t1), (t0, mid)]
+                continue
+            cur = _fallback_lines(q, m, A, t0, t1, cur, line_head)
+            continue
+        A.worst = max(A.worst, worst)
+        # a short correcting line onto the chosen start (a few BLU at most)
+        cur = _line_cmd(q, m, line_head, cur, s, True)
+        q.cmds.append(enc.encode_arc(cw, c[0] - cur[0], c[1] - cur[1],
+                                     c[0] + xe - cur[0], c[1] + ye - cur[1], rate_q))
+        q.moves_per_cmd.append(n)
+        q.src.append(m)
+        q.arcs += 1
+        cur = [stop_x, stop_y, cur[2]]
+        if not all(fits(v, width, LATTICE_MARGIN) for v in cur):
+            raise GcodeError(m.lineno, f"arc leaves the core's {width}-bit range at this BLU")
+    return cur
+
+
+def _fallback_lines(q: Quantised, m: Move, A: _Arcs, t0: float, t1: float, cur, line_head):
+    """A short piece the arc unit cannot hold within BOUND: single-step lines
+    through the lattice points nearest the programmed arc (each within
+    0.71 BLU of it)."""
+    n = max(2, math.ceil(abs(A.sweep) * (t1 - t0) * A.r / 0.4))
+    for k in range(n + 1):
+        a = A.angle(t0 + (t1 - t0) * k / n)
+        to = (round(A.pcx + A.r * math.cos(a)), round(A.pcy + A.r * math.sin(a)))
+        if k == n and t1 == 1.0 and not A.full:
+            to = (round(A.pe[0]), round(A.pe[1]))
+        cur = _line_cmd(q, m, line_head, cur, to, False)
+        q.fallback += 1
+    return cur
 
 
 def quantise(moves: list[Move], blu=(DEFAULT_BLU,) * 3, width: int = 32,
@@ -118,77 +349,45 @@ def quantise(moves: list[Move], blu=(DEFAULT_BLU,) * 3, width: int = 32,
     mask = 0xFFFFFFFF
     line_head = enc.OP_LINE | (rate_q << 32)
     for m in moves:
-        if m.kind != "arc":
-            ex, ey, ez = m.end
-            tx, ty, tz = round(ex / bx), round(ey / by), round(ez / bz)
-            if not (lo <= tx <= hi and lo <= ty <= hi and lo <= tz <= hi):
-                raise GcodeError(m.lineno, f"end point outside the core's {width}-bit range at this BLU")
-            dx, dy, dz = tx - cur[0], ty - cur[1], tz - cur[2]
-            if not (dx or dy or dz):
+        bound = LINE_BOUND
+        if m.kind == "arc":
+            if m.plane != 17:
+                raise GcodeError(m.lineno, "the core interpolates arcs in the XY plane (G17) only")
+            sag = _flat(m)
+            if sag is None or sag >= 0.25 * bx:
+                # the arc on the lattice is placed against the programmed absolute
+                # geometry, never against where the previous arc stopped (_Arcs)
+                cur = _arc_cmds(q, m, bx, cur, width, rate_q, line_head)
                 continue
-            # encoding.encode_line, inlined for speed (the deltas fit: checked above)
-            q.cmds.append(line_head | ((dx & mask) << 64) | ((dy & mask) << 96) | ((dz & mask) << 128))
-            q.moves_per_cmd.append(max(abs(dx), abs(dy), abs(dz)))
-            q.src.append(m)
-            cur = [tx, ty, tz]
-            continue
-        if m.plane != 17:
-            raise GcodeError(m.lineno, "the core interpolates arcs in the XY plane (G17) only")
-        if m.start[:2] != m.end[:2]:
             # an arc whose sagitta is under a quarter BLU is its chord on the
-            # lattice: run it as a line (CAM corner rounds, short joins)
-            r_mm = math.hypot(m.start[0] - m.center[0], m.start[1] - m.center[1])
-            chord = math.hypot(m.end[0] - m.start[0], m.end[1] - m.start[1])
-            half = min(chord / (2 * r_mm), 1.0) if r_mm > 0 else 1.0
-            sag = r_mm * (1 - math.sqrt(1 - half * half))
-            short = math.asin(half) * 2 <= math.pi      # the short way round
-            if short and sag < 0.25 * bx and _minor(m):
-                tx, ty = round(m.end[0] / bx), round(m.end[1] / by)
-                dx, dy = tx - cur[0], ty - cur[1]
-                if dx or dy:
-                    q.cmds.append(line_head | ((dx & mask) << 64) | ((dy & mask) << 96))
-                    q.moves_per_cmd.append(max(abs(dx), abs(dy)))
-                    q.src.append(m)
-                    cur = [tx, ty, cur[2]]
-                continue
-        # the arc on the lattice is chosen against the programmed absolute
-        # geometry, never against where the previous arc stopped: the centre
-        # and start among the lattice points next to the programmed ones that
-        # give the circle nearest the programmed circle
-        c, (xs, ys) = _place_arc(m, bx, cur)
-        if not all(fits(v, width, LATTICE_MARGIN) for v in c):
-            raise GcodeError(m.lineno, f"arc centre outside the core's {width}-bit range at this BLU")
-        start = (c[0] + xs, c[1] + ys)
-        if (start[0], start[1]) != (cur[0], cur[1]):
-            # a short correcting line onto the chosen start (a few BLU at most)
-            dx, dy = start[0] - cur[0], start[1] - cur[1]
-            q.cmds.append(line_head | ((dx & mask) << 64) | ((dy & mask) << 96))
-            q.moves_per_cmd.append(max(abs(dx), abs(dy)))
-            q.src.append(m)
-            q.corrections += 1
-            cur = [start[0], start[1], cur[2]]
-        full = m.start[:2] == m.end[:2]          # a programmed full circle
-        r2 = xs * xs + ys * ys
-        if full:
-            xe, ye = xs, ys
-        else:
-            ex, ey = m.end[0] / bx - c[0], m.end[1] / by - c[1]
-            xe, ye = _end_point(r2, ex, ey)
-            if validate(xs, ys, xe, ye, width):
-                ang = math.atan2(m.end[1] - m.center[1], m.end[0] - m.center[0])
-                xe, ye = lattice_point_near(r2, ang)
-            if (xe, ye) == (xs, ys):
-                continue        # an arc shorter than the lattice: no motion
-        code = validate(xs, ys, xe, ye, width)
-        if code:
-            raise GcodeError(m.lineno, "arc cannot be put on the lattice (radius too large for the width?)")
-        sx, sy, n = arc_stop(xs, ys, xe, ye, int(m.cw))
-        q.cmds.append(enc.encode_arc(int(m.cw), c[0] - cur[0], c[1] - cur[1],
-                                     c[0] + xe - cur[0], c[1] + ye - cur[1], rate_q))
-        q.moves_per_cmd.append(n)
+            # lattice: run it as a line (CAM corner rounds, short joins), held
+            # within what the sagitta leaves of the bound
+            bound = LINE_BOUND - sag / bx
+        ex, ey, ez = m.end
+        tx, ty, tz = round(ex / bx), round(ey / by), round(ez / bz)
+        sx, sy = m.start[0] / bx, m.start[1] / by
+        if m.start[:2] != m.end[:2] and \
+                _line_start_off((tx, ty), ex / bx, ey / by, sx, sy, bound):
+            # the nearest lattice point would let the line stray too far
+            # near its end: the one on the line's own lattice row instead
+            tx, ty = _on_line(sx, sy, ex / bx, ey / by, ex / bx, ey / by)
+        if not (lo <= tx <= hi and lo <= ty <= hi and lo <= tz <= hi):
+            raise GcodeError(m.lineno, f"end point outside the core's {width}-bit range "
+                                       "at this BLU")
+        if (cur[0] - sx) ** 2 + (cur[1] - sy) ** 2 > 0.25 * bound * bound and \
+                _line_start_off(cur, sx, sy, ex / bx, ey / by, bound):
+            # the core is too far from the line's start (an arc stopped off
+            # it): a correcting step onto the line's own lattice row first
+            cur = _line_cmd(q, m, line_head, cur, _on_line(sx, sy, ex / bx, ey / by, sx, sy),
+                            True)
+        dx, dy, dz = tx - cur[0], ty - cur[1], tz - cur[2]
+        if not (dx or dy or dz):
+            continue
+        # encoding.encode_line, inlined for speed (the deltas fit: checked above)
+        q.cmds.append(line_head | ((dx & mask) << 64) | ((dy & mask) << 96)
+                      | ((dz & mask) << 128))
+        q.moves_per_cmd.append(max(abs(dx), abs(dy), abs(dz)))
         q.src.append(m)
-        cur = [c[0] + sx, c[1] + sy, cur[2]]
-        if not all(fits(v, width, LATTICE_MARGIN) for v in cur):
-            raise GcodeError(m.lineno, f"arc leaves the core's {width}-bit range at this BLU")
+        cur = [tx, ty, tz]
     q.end = tuple(cur)
     return q

@@ -1,0 +1,548 @@
+# SPDX-License-Identifier: Apache-2.0
+"""cocotb tests of halfpoint_profile: the RTL against ``ProfileStage`` on every clock.
+
+Run by ``test_profile_rtl.py``; W and DIV are read from the design.  The pieces are
+kept apart: the stimulus (programs of segments and the events around them) decides
+the inputs of a clock, the driver puts them on the pins, the monitor reads the
+pins (and the registers), the model is ``halfpoint.spec.profile.ProfileStage``, and
+the checker compares.  Every clock: the combinational view (pop, take, stopped,
+holding) after the inputs settle, the registered outputs (speed, dry, busy) after
+the edge, and every register of the model against its RTL counterpart.
+"""
+
+from __future__ import annotations
+
+import os
+import random
+from dataclasses import dataclass, field
+
+import cocotb
+from cocotb.clock import Clock
+from cocotb.triggers import FallingEdge, ReadOnly
+
+from halfpoint.sim.design import read_parameters
+from halfpoint.spec import profile as pf
+from halfpoint.spec.profile import (CLASS_AXIS, CLASS_DIAG, CLASS_LINE, COST_AXIS,
+                                    OVERRIDE_ONE, ProfileInputs, ProfileParams,
+                                    ProfileStage)
+
+W = DIV = 0         # the design's parameters: bind() reads them
+SEED = int(os.environ.get("HP_SEED", "1"))
+CLOCKS = int(os.environ.get("HP_PROFILE_CLOCKS", "15000"))    # per test, roughly
+
+
+def bind(dut) -> None:
+    """Take W and DIV from the design under test (its parameters)."""
+    global W, DIV
+    W, DIV = read_parameters(dut, "W", "DIV")
+
+
+def ramp_left_width() -> int:
+    """Width of the RTL's ramp_left register (see rtl/halfpoint_profile.v)."""
+    return max(W + 43, DIV + 40)
+
+
+# --- stimulus: programs and events ------------------------------------------------------------
+
+@dataclass
+class Program:
+    """A chain of segments: profiles, the cost classes of their moves, and the clock
+    (from the program's start) at which each profile and its moves are available."""
+
+    kind: str
+    profiles: list
+    moves: list
+    arrival: list
+
+
+@dataclass
+class Events:
+    """What happens around a program, by clock from its start."""
+
+    ready_stall: float = 0.0        # probability that ready is low on a clock
+    head_gap: float = 0.0           # probability that the head move is not there yet
+    holds: list = field(default_factory=list)       # (from, to) clocks
+    overrides: list = field(default_factory=list)   # (from, value), ascending
+    stop_at: int | None = None      # stop from this clock until the stage is stopped
+    abort_at: int | None = None
+    budget: int = 4000              # abort the program after this many clocks
+
+    def hold(self, t: int) -> int:
+        return int(any(a <= t < b for a, b in self.holds))
+
+    def override(self, t: int) -> int:
+        value = OVERRIDE_ONE
+        for start, ov in self.overrides:
+            if t >= start:
+                value = ov
+        return value
+
+
+def moves_of(rng, line: bool, count: int) -> list:
+    if line:
+        return [CLASS_LINE] * count
+    return [rng.choice((CLASS_AXIS, CLASS_DIAG)) for _ in range(count)]
+
+
+def length_of(moves, line_cost: int) -> int:
+    probe = ProfileParams(1, 0, 1, line_cost)
+    return sum(pf.move_cost(c, probe) for c in moves)
+
+
+def planned_program(rng) -> Program:
+    """A chain from the host's integer pass: arcs (axis and diagonal moves) and lines
+    with their line cost, random lengths, speeds and accelerations; ramps of 6 to 40
+    speed steps."""
+    count = rng.randint(1, 4)
+    # round numbers (powers of two): the credit then lands exactly on a move's cost
+    # often, which tells credit >= cost from credit > cost
+    round_numbers = rng.random() < 0.3
+    lengths, moves, cruise, exits, accels, costs = [], [], [], [], [], []
+    for k in range(count):
+        line = rng.random() < 0.5
+        cost = rng.randint(COST_AXIS // 2, 3 * COST_AXIS) if line else 0
+        if round_numbers:
+            cost = COST_AXIS << rng.randint(0, 1) if line else 0
+            cruise.append(1 << rng.randint(28, 31))
+            exit_speed = cruise[-1] >> rng.randint(1, 3)
+            accels.append((cruise[-1] << 6) >> rng.randint(4, 6))
+        else:
+            cruise.append(rng.randint(1 << 28, 1 << 31))
+            exit_speed = rng.randint(0, 1 << 30)
+            accels.append(min((cruise[-1] << 6) // rng.randint(6, 40), (1 << 34) - 1))
+        m = moves_of(rng, line, rng.randint(3, 40))
+        moves.append(m)
+        costs.append(cost)
+        lengths.append(length_of(m, cost))
+        exits.append(0 if k == count - 1 else rng.choice((0, exit_speed)))
+    profiles = pf.plan_integer(lengths, cruise, exits, accels, DIV, costs)
+    arrival = [0] * count
+    return Program("planned", profiles, moves, arrival)
+
+
+TOP_SPEED = (1 << 32) - 1
+TOP_ACCEL = (1 << 34) - 1
+
+
+def raw_profile(rng, length: int, line_cost: int) -> ProfileParams:
+    """Any legal ProfileParams (check() passes), extremes included."""
+    v_cruise = rng.choice((TOP_SPEED, 0, rng.randint(1, 1 << 20), rng.randint(1 << 26, TOP_SPEED),
+                           rng.randint(1 << 29, TOP_SPEED), rng.randint(1 << 29, TOP_SPEED)))
+    v_exit = rng.choice((0, v_cruise, rng.randint(0, v_cruise)))
+    accel = rng.choice((1, TOP_ACCEL, rng.randint(1, TOP_ACCEL), rng.randint(1 << 31, TOP_ACCEL),
+                        rng.randint(1 << 31, TOP_ACCEL)))
+    dist_top = (1 << pf.distance_bits(W)) - 1
+    d_exit = rng.choice((0, dist_top, rng.randint(0, length + length // 4),
+                         rng.randint(0, length)))
+    d_stop = rng.choice((0, d_exit, rng.randint(0, d_exit)))
+    p = ProfileParams(v_cruise, v_exit, accel, line_cost, d_exit, d_stop)
+    p.check(W)
+    return p
+
+
+def raw_program(rng) -> Program:
+    """Profiles straight from ProfileParams, not from the planner: d_exit 0 or past
+    the end, v_exit = v_cruise, accel 1 and 2^34 - 1, line costs up to 2^18 - 1.
+    Two corners on purpose: a segment of 2^18 - 1 line costs hands a large credit
+    to one of tiny line costs (negative gain on its first clock, which starts the
+    staircase), and a segment entered at full speed with a cruise speed far below
+    it (the staircase's remainder falls by about v every clock)."""
+    dist_top = (1 << pf.distance_bits(W)) - 1
+    kind = rng.random()
+    if kind < 0.2:
+        big = ProfileParams(TOP_SPEED, TOP_SPEED, TOP_ACCEL, (1 << 18) - 1, dist_top, dist_top)
+        cost = rng.randint(1, 100)
+        small = ProfileParams(rng.randint(1 << 28, TOP_SPEED), 0, rng.randint(1, TOP_ACCEL),
+                              cost, 0, 0)
+        return Program("raw", [big, small],
+                       [[CLASS_LINE] * rng.randint(2, 6), [CLASS_LINE] * rng.randint(5, 40)],
+                       [0, 0])
+    if kind < 0.4:
+        fast = ProfileParams(TOP_SPEED, TOP_SPEED, TOP_ACCEL, 0, dist_top, dist_top)
+        slow = ProfileParams(rng.randint(1, 1 << 24), 0, rng.randint(1 << 20, TOP_ACCEL), 0,
+                             0, 0)
+        return Program("raw", [fast, slow], [moves_of(rng, False, rng.randint(30, 60)),
+                                             moves_of(rng, False, rng.randint(20, 60))], [0, 0])
+    if kind < 0.55:
+        # line iterations far below one BLU at full speed: the stage pops every
+        # clock and the credit stays capped while the staircase steps
+        count = rng.randint(1, 2)
+        profiles, moves = [], []
+        for _ in range(count):
+            cost = rng.randint(1 << 10, 1 << 14)
+            m = [CLASS_LINE] * rng.randint(100, 300)
+            v_cruise = rng.randint(1 << 30, TOP_SPEED)
+            d_exit = rng.randint(0, length_of(m, cost) // 3)
+            profiles.append(ProfileParams(v_cruise, rng.randint(0, v_cruise),
+                                          rng.randint(1 << 28, 1 << 32), cost, d_exit,
+                                          rng.randint(0, d_exit)))
+            moves.append(m)
+        return Program("raw", profiles, moves, [0] * count)
+    if kind < 0.7:
+        # fine costs at low speeds: the credit often covers a move exactly (credit
+        # >= cost and credit > cost differ)
+        count = rng.randint(1, 3)
+        profiles, moves = [], []
+        for _ in range(count):
+            cost = rng.randint(1, 64)
+            m = [CLASS_LINE] * rng.randint(20, 80)
+            v_cruise = rng.randint(1 << 16, 1 << 21)
+            d_exit = rng.randint(0, length_of(m, cost))
+            profiles.append(ProfileParams(v_cruise, rng.choice((0, v_cruise >> 1)),
+                                          max(1, (v_cruise << 6) >> rng.randint(1, 4)), cost,
+                                          d_exit, rng.randint(0, d_exit)))
+            moves.append(m)
+        return Program("raw", profiles, moves, [0] * count)
+    count = rng.randint(1, 4)
+    profiles, moves = [], []
+    for _ in range(count):
+        line = rng.random() < 0.5
+        if line:
+            cost = rng.choice((1, (1 << 18) - 1, rng.randint(1, (1 << 18) - 1),
+                               rng.randint(COST_AXIS, 2 * COST_AXIS)))
+        else:
+            cost = 0
+        m = moves_of(rng, line, rng.randint(1, 40))
+        profiles.append(raw_profile(rng, length_of(m, cost), cost))
+        moves.append(m)
+    return Program("raw", profiles, moves, [0] * count)
+
+
+def random_events(rng, program: Program, calm: bool) -> Events:
+    """Ready stalls, late profiles (dry queue), hold pulses, override changes (0,
+    above 128), stop and abort, each with some probability."""
+    ev = Events(budget=rng.randint(1500, 3000))
+    if calm:
+        return ev
+    horizon = 1500
+    if rng.random() < 0.5:
+        ev.ready_stall = rng.choice((0.1, 0.3, 0.6))
+    if rng.random() < 0.3:
+        ev.head_gap = rng.choice((0.05, 0.3))
+    if rng.random() < 0.5:
+        gaps = [0] + [rng.choice((0, 0, rng.randint(0, 600), rng.randint(0, 2000)))
+                      for _ in program.profiles[1:]]
+        program.arrival = [max(gaps[:k + 1]) for k in range(len(gaps))]
+    for _ in range(rng.choice((0, 0, 1, 2, 3))):
+        a = rng.randint(0, horizon)
+        ev.holds.append((a, a + rng.choice((1, 5, rng.randint(10, 800)))))
+    for _ in range(rng.choice((0, 0, 1, 3, 6))):
+        ev.overrides.append((rng.randint(0, horizon),
+                             rng.choice((128, 128, 127, 96, 64, 33, 1, 0, 129, 200, 255))))
+    ev.overrides.sort()
+    if rng.random() < 0.2:
+        ev.stop_at = rng.randint(0, horizon)
+    if rng.random() < 0.2:
+        ev.abort_at = rng.randint(0, horizon)
+    return ev
+
+
+class Stimulus:
+    """Runs programs as the core would: the head of the move queue is the current
+    segment's next move, the next profile is there from its arrival on, and the
+    events of the program set hold, stop, override, ready and abort.  It learns
+    what happened from the view of the clock (``advance``), as the core does."""
+
+    def __init__(self, rng: random.Random):
+        self.rng = rng
+        self.program: Program | None = None
+        self.events = Events()
+        self.programs = {"planned": 0, "raw": 0}
+        self.ends = {"done": 0, "stopped": 0, "aborted": 0, "budget": 0}
+
+    def start(self, program: Program, events: Events) -> None:
+        self.program, self.events = program, events
+        self.seg_in, self.cur_seg, self.idx, self.t = 0, -1, 0, 0
+        self.programs[program.kind] += 1
+
+    def inputs(self, model: ProfileStage) -> ProfileInputs:
+        rng, prog, ev, t = self.rng, self.program, self.events, self.t
+        n = len(prog.profiles)
+        next_ok = self.seg_in < n and t >= prog.arrival[self.seg_in]
+        head = (self.cur_seg >= 0 and model.cur is not None
+                and rng.random() >= ev.head_gap)
+        inp = ProfileInputs(
+            head_valid=int(head),
+            head_class=rng.randint(0, 3), head_last=rng.randint(0, 1),
+            ready=int(rng.random() >= ev.ready_stall),
+            next_valid=int(next_ok),
+            next_profile=prog.profiles[self.seg_in] if next_ok else None,
+            hold=ev.hold(t),
+            stop=int(ev.stop_at is not None and t >= ev.stop_at),
+            override=ev.override(t),
+            abort=int(t == ev.abort_at or t == ev.budget))
+        if head:
+            moves = prog.moves[self.cur_seg]
+            inp.head_class = moves[self.idx]
+            inp.head_last = int(self.idx == len(moves) - 1)
+        return inp
+
+    def advance(self, inp: ProfileInputs, view, model: ProfileStage) -> bool:
+        """Account for the clock that ended; True when the program is over."""
+        self.t += 1
+        if inp.abort:
+            self.ends["budget" if self.t - 1 == self.events.budget else "aborted"] += 1
+            return True
+        if view.pop:
+            self.idx += 1
+            if inp.head_last:
+                self.cur_seg, self.idx = -1, 0
+        if view.stopped:
+            self.ends["stopped"] += 1
+            return True
+        if view.take:
+            self.cur_seg, self.idx = self.seg_in, 0
+            self.seg_in += 1
+        if self.seg_in == len(self.program.profiles) and model.cur is None and model.v == 0:
+            self.ends["done"] += 1
+            return True
+        return False
+
+
+# --- driver, monitor, checker ---------------------------------------------------------------
+
+class Driver:
+    """Puts a clock's inputs on the pins; fields that are not valid get noise."""
+
+    def __init__(self, dut, rng: random.Random):
+        self.dut, self.rng = dut, rng
+        self.dist_top = (1 << pf.distance_bits(W)) - 1
+
+    def drive(self, inp: ProfileInputs, rst: int = 0) -> None:
+        d, rng = self.dut, self.rng
+        d.rst.value = rst
+        d.abort.value = inp.abort
+        d.head_valid.value = inp.head_valid
+        d.head_class.value = inp.head_class
+        d.head_last.value = inp.head_last
+        d.ready.value = inp.ready
+        d.next_valid.value = inp.next_valid
+        p = inp.next_profile
+        if p is None:
+            p = ProfileParams(rng.getrandbits(32), rng.getrandbits(32), rng.getrandbits(34),
+                              rng.getrandbits(18), rng.randint(0, self.dist_top),
+                              rng.randint(0, self.dist_top))
+        d.next_v_cruise.value = p.v_cruise
+        d.next_v_exit.value = p.v_exit
+        d.next_accel.value = p.accel
+        d.next_line_cost.value = p.line_cost
+        d.next_d_exit.value = p.d_exit
+        d.next_d_stop.value = p.d_stop
+        d.hold.value = inp.hold
+        d.stop.value = inp.stop
+        d.override.value = inp.override
+
+
+VIEW = ("pop", "take", "stopped", "holding")
+OUTPUTS = ("speed", "dry", "busy")
+
+
+class Monitor:
+    """Reads the pins, and the registers that mirror the model's."""
+
+    def __init__(self, dut):
+        self.dut = dut
+
+    def view(self) -> dict:
+        return {k: int(getattr(self.dut, k).value) for k in VIEW}
+
+    def outputs(self) -> dict:
+        return {k: int(getattr(self.dut, k).value) for k in OUTPUTS}
+
+    def registers(self) -> dict:
+        d = self.dut
+        got = {k: int(getattr(d, k + "_q").value) for k in (
+            "cur_valid", "accel", "v", "credit", "s", "since", "last_up", "last_down",
+            "dry", "ramp_on", "ramp_dry", "ramp_v")}
+        rw = ramp_left_width()
+        raw = int(d.ramp_left_q.value)
+        got["ramp_left"] = raw - (1 << rw) if raw >> (rw - 1) else raw
+        if got["cur_valid"]:
+            for k in ("v_cruise", "exit_speed", "line_cost", "d_exit", "d_stop", "ov_target",
+                      "cap"):
+                got[k] = int(getattr(d, k + "_q").value)
+        return got
+
+
+def model_outputs(model: ProfileStage) -> dict:
+    o = model.outputs()
+    return {"speed": o.v, "dry": o.dry, "busy": o.busy}
+
+
+def model_view(view) -> dict:
+    return {k: int(bool(getattr(view, k))) for k in VIEW}
+
+
+def model_registers(model: ProfileStage) -> dict:
+    want = {"cur_valid": int(model.cur is not None), "accel": model.accel, "v": model.v,
+            "credit": model.credit, "s": model.s, "since": model.since - 1,
+            "last_up": int(model.last_dir == 1), "last_down": int(model.last_dir == -1),
+            "dry": model.dry, "ramp_on": int(model.ramp_on),
+            "ramp_dry": int(model.ramp_dry), "ramp_v": model.ramp_v,
+            "ramp_left": model.ramp_left}
+    if model.cur is not None:
+        c = model.cur
+        # the RTL keeps the model's ov_q as its product with the cruise speed, and
+        # v_exit as the staircase's exit speed (the creep speed for 0)
+        exit_speed = c.v_exit << pf.SPEED_SHIFT if c.v_exit else c.accel
+        want.update(v_cruise=c.v_cruise, exit_speed=exit_speed, line_cost=c.line_cost,
+                    d_exit=c.d_exit, d_stop=c.d_stop,
+                    ov_target=((c.v_cruise << pf.SPEED_SHIFT) * model.ov_q) >> 7,
+                    cap=(c.largest_cost() << pf.COST_SHIFT) << 1)
+    return want
+
+
+class Checker:
+    """Compares what the monitor saw with what the model says; counts what it saw."""
+
+    def __init__(self):
+        self.clocks = 0
+        self.seen = {"pop": 0, "take": 0, "stopped": 0, "holding": 0, "ramp_step": 0,
+                     "dry_start": 0, "left_negative": 0, "capped_start": 0,
+                     "exact_cover": 0, "capped_pop_step": 0}
+        self.v_before = 0
+
+    @staticmethod
+    def _diff(what: str, clock: int, got: dict, want: dict, context: str) -> None:
+        bad = [k for k in want if got.get(k) != want[k]]
+        assert not bad, f"clock {clock} ({context}) {what}: " + ", ".join(
+            f"{k}: rtl={got.get(k)} model={want[k]}" for k in bad)
+
+    def registered(self, clock, got_out, want_out, got_reg, want_reg, context) -> None:
+        self._diff("outputs", clock, got_out, want_out, context)
+        self._diff("registers", clock, got_reg, want_reg, context)
+        if want_reg["ramp_left"] < 0:
+            self.seen["left_negative"] += 1
+
+    def view(self, clock, got: dict, want: dict, w, context) -> None:
+        self._diff("view", clock, got, want, context)
+        self.clocks += 1
+        for k in VIEW:
+            self.seen[k] += want[k]
+        self.seen["ramp_step"] += int(w.ramp_step)
+        self.seen["dry_start"] += int(w.ramp_dry)
+        self.seen["capped_start"] += int(w.gain < 0)
+        # a pop with the credit capped, on a clock the staircase steps
+        self.seen["capped_pop_step"] += int(w.pop and w.ramp_step and w.gain < self.v_before)
+
+    def credit(self, model: ProfileStage, inp: ProfileInputs) -> None:
+        """Before the clock: does the credit cover the head move exactly?"""
+        self.v_before = model.v
+        if model.cur is not None and inp.head_valid:
+            cost = pf.move_cost(inp.head_class, model.cur)
+            self.seen["exact_cover"] += int(model.credit >> pf.COST_SHIFT == cost)
+
+
+# --- the loop -------------------------------------------------------------------------------
+
+class Bench:
+    def __init__(self, dut, seed: int):
+        self.dut = dut
+        self.rng = random.Random(seed)
+        self.model = ProfileStage(DIV, W)
+        self.stim = Stimulus(self.rng)
+        self.driver = Driver(dut, random.Random(seed + 1))
+        self.monitor = Monitor(dut)
+        self.checker = Checker()
+        self.clock = 0
+
+    async def start(self) -> None:
+        cocotb.start_soon(Clock(self.dut.clk, 10, unit="ns").start())
+        await self.reset()
+
+    async def reset(self) -> None:
+        """rst for two clocks with noise on every other input."""
+        for _ in range(2):
+            self.driver.drive(ProfileInputs(head_valid=1, next_valid=1, hold=1,
+                                            override=self.rng.randint(0, 255),
+                                            head_class=3), rst=1)
+            await FallingEdge(self.dut.clk)
+            self.model.reset()
+        await self.compare_registered("reset")
+
+    async def compare_registered(self, context: str) -> None:
+        self.checker.registered(self.clock, self.monitor.outputs(), model_outputs(self.model),
+                                self.monitor.registers(), model_registers(self.model),
+                                context)
+
+    async def run_program(self, program: Program, events: Events) -> None:
+        self.stim.start(program, events)
+        context = f"{program.kind} program {sum(self.stim.programs.values())}"
+        while True:
+            inp = self.stim.inputs(self.model)
+            self.driver.drive(inp)
+            await ReadOnly()
+            got = self.monitor.view()
+            self.checker.credit(self.model, inp)
+            w = self.model.clock(inp)
+            self.checker.view(self.clock, got, model_view(w), w, context)
+            over = self.stim.advance(inp, w, self.model)
+            await FallingEdge(self.dut.clk)
+            self.clock += 1
+            await self.compare_registered(context)
+            if over:
+                return
+
+    async def idle(self, clocks: int) -> None:
+        """Clocks with nothing queued: noise on the profile fields, random override."""
+        for _ in range(clocks):
+            inp = ProfileInputs(override=self.rng.randint(0, 255),
+                                hold=self.rng.randint(0, 1), head_class=3)
+            self.driver.drive(inp)
+            await ReadOnly()
+            got = self.monitor.view()
+            w = self.model.clock(inp)
+            self.checker.view(self.clock, got, model_view(w), w, "idle")
+            await FallingEdge(self.dut.clk)
+            self.clock += 1
+            await self.compare_registered("idle")
+
+    def report(self, name: str) -> None:
+        self.dut._log.info("%s: W=%d DIV=%d, %d clocks, programs %s, ends %s, seen %s", name,
+                           W, DIV, self.checker.clocks, self.stim.programs, self.stim.ends,
+                           self.checker.seen)
+
+
+@cocotb.test()
+async def planned_chains(dut):
+    """Chains from plan_integer with random stalls of ready, late profiles, hold
+    pulses, override changes (0 and above 128), stop with a following program and
+    abort; every clock compared."""
+    bind(dut)
+    bench = Bench(dut, SEED)
+    await bench.start()
+    k = 0
+    while bench.checker.clocks < CLOCKS:
+        program = planned_program(bench.rng)
+        events = random_events(bench.rng, program, calm=k % 4 == 0)
+        await bench.run_program(program, events)
+        if bench.rng.random() < 0.3:
+            await bench.idle(bench.rng.randint(1, 20))
+        k += 1
+    bench.report("planned chains")
+    seen = bench.checker.seen
+    assert all(seen[k] for k in ("pop", "take", "stopped", "holding", "ramp_step",
+                                 "dry_start"))
+    assert all(bench.stim.ends[k] for k in ("done", "stopped", "aborted"))
+
+
+@cocotb.test()
+async def raw_profiles(dut):
+    """Profiles straight from ProfileParams (not planned), the same events, and a
+    reset in the middle; every clock compared."""
+    bind(dut)
+    bench = Bench(dut, SEED + 100)
+    await bench.start()
+    k = 0
+    while bench.checker.clocks < CLOCKS:
+        program = raw_program(bench.rng)
+        events = random_events(bench.rng, program, calm=k % 5 == 0)
+        events.budget = min(events.budget, 1200)
+        await bench.run_program(program, events)
+        if k == 10:
+            await bench.reset()
+        k += 1
+    bench.report("raw profiles")
+    seen = bench.checker.seen
+    assert all(seen[k] for k in ("pop", "take", "ramp_step", "left_negative",
+                                 "capped_start", "exact_cover", "capped_pop_step"))
