@@ -306,7 +306,7 @@ def _arc_cmds(q: Quantised, m: Move, b: float, cur, width: int, rate_q: int, lin
         # a short correcting line onto the chosen start (a few BLU at most)
         cur = _line_cmd(q, m, line_head, cur, s, True)
         q.cmds.append(enc.encode_arc(cw, c[0] - cur[0], c[1] - cur[1],
-                                     c[0] + xe - cur[0], c[1] + ye - cur[1], rate_q))
+                                     c[0] + xe - cur[0], c[1] + ye - cur[1]))
         q.moves_per_cmd.append(n)
         q.src.append(m)
         q.arcs += 1
@@ -337,7 +337,6 @@ def quantise(moves: list[Move], blu=(DEFAULT_BLU,) * 3, width: int = 32,
         raise ValueError("X and Y must have the same BLU (arcs are circles on the lattice)")
     if min(blu) <= 0:
         raise ValueError("a BLU must be positive")
-    rate_q = max(1, round(rate * enc.RATE_ONE))
     q = Quantised()
     cur = [0, 0, 0]
 
@@ -347,7 +346,7 @@ def quantise(moves: list[Move], blu=(DEFAULT_BLU,) * 3, width: int = 32,
     bx, by, bz = blu
     lo, hi = field_range(width, LATTICE_MARGIN)
     mask = 0xFFFFFFFF
-    line_head = enc.OP_LINE | (rate_q << 32)
+    line_head = enc.OP_LINE     # no rate: a PROFILE gives each command its speeds
     for m in moves:
         bound = LINE_BOUND
         if m.kind == "arc":
@@ -357,7 +356,7 @@ def quantise(moves: list[Move], blu=(DEFAULT_BLU,) * 3, width: int = 32,
             if sag is None or sag >= 0.25 * bx:
                 # the arc on the lattice is placed against the programmed absolute
                 # geometry, never against where the previous arc stopped (_Arcs)
-                cur = _arc_cmds(q, m, bx, cur, width, rate_q, line_head)
+                cur = _arc_cmds(q, m, bx, cur, width, 0, line_head)
                 continue
             # an arc whose sagitta is under a quarter BLU is its chord on the
             # lattice: run it as a line (CAM corner rounds, short joins), held
