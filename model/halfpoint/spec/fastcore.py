@@ -1,0 +1,372 @@
+# SPDX-License-Identifier: Apache-2.0
+"""Event-skipping model of the motion core: real jobs, bit-exact with ``spec.core``
+(issue 13, item 7).
+
+``run_fast`` streams a program into the core back to back, as
+``spec.core.run_program`` does (tvalid high while commands remain, the queue as full
+as tready allows), optionally with feed-hold intervals and a constant feed override,
+and returns the cycle of every move strobe, the position after every move, the error
+codes, and the final ``dry`` / ``underrun`` flags: equal to the clock-by-clock model's,
+cycle for cycle.  Cycle numbering is ``run_program``'s: cycle 0 is the first clock
+after reset, a move made by the edge ending cycle c is seen (``move`` high) in cycle
+c + 1, and a hold interval (A, B) drives ``hold`` high in cycles A .. B - 1.
+
+Method: the exact ``CoreModel`` runs clock by clock whenever something discrete
+happens; at the start of each cycle ``_quiet_clocks`` checks whether the core is in a
+stretch where only accumulators evolve, and if so computes in closed form the number
+k of clocks before the next event and applies them at once (``_skip``).  A stretch is
+quiet when, on every one of its clocks:
+
+* no beat enters the command queue (it is full, or the program is all in) and the
+  dispatcher neither pops, rejects nor hands a command to a unit;
+* the units neither validate (each in its idle state or holding a validated command
+  that cannot start: the other unit is running) nor produce a move (none is running,
+  or the move queue is full), and no profile enters the profile queue;
+* the profile stage pops no move (its credit does not cover the head move's cost, or
+  the STEP/DIR generators the head move needs are not ready yet), takes no profile,
+  makes no speed step (the speed equals its target, or the cadence counter has not
+  reached a tick since a step in the same direction), its exit staircase neither
+  starts (the earned distance below d_exit, and below d_stop while the queue is dry)
+  nor steps (its distance to the next step not covered by this clock's gain);
+* the hold input does not change and the registered override is already the input.
+
+In such a stretch the credit grows by v per clock up to its cap, the staircase's
+distance to its next step shrinks by the same gains, the cadence counter counts up
+to a tick (saturating), and each STEP/DIR generator counts its timers without
+requests (SETUP -> HIGH -> LOW, low_t saturating; ``_sg_advance``).  The events are
+found from those closed forms: the clock whose credit first covers a bound X is
+ceil((X - credit) / v) (``_first_reach``), the staircase steps on the first clock
+whose gain covers its distance left, i.e. the first clock j with credit(j + 1) >=
+credit(0) + ramp_left, and the head move pops on the first clock that both covers
+its cost and has every axis it steps ready (readiness only grows without requests:
+``_sg_ready_at``).  The clock of each event then runs exactly.  ``spec.core``,
+``spec.profile`` and ``spec.stepgen`` stay the specification: this module only reads
+and sets their registers.
+
+``run_clocked`` is the clock-by-clock reference with the same hold and override
+inputs (``run_program`` plus those inputs); the tests hold the two equal on random
+programs.  ``measure_clocks_per_s`` gives the bench's ``model_clocks_per_s``: simulated
+clocks per second of wall time of ``run_fast`` on a fixed plate-like job.
+"""
+
+from __future__ import annotations
+
+import bisect
+import math
+import time
+from dataclasses import dataclass
+
+from . import encoding as enc
+from . import profile as pf
+from .arc import V_HOLD, V_IDLE
+from .core import CoreInputs, CoreModel, ProgramRun
+from .line import L_HOLD, L_IDLE
+from .stepgen import S_HIGH, S_LOW, S_SETUP, StepCfg
+
+NEVER = 1 << 200                    # "no event in sight" (larger than any clock count)
+
+
+@dataclass
+class FastRun(ProgramRun):
+    """``run_program``'s result, plus the final flags and the work done."""
+
+    dry: int = 0                    # the profile stage's sticky dry flag at the end
+    underrun: int = 0               # the core's sticky underrun flag at the end
+    clocks: int = 0                 # cycles simulated (the run's length)
+    exact: int = 0                  # of which clocked one by one by the exact model
+
+
+class _Holds:
+    """hold as a function of the cycle: high in A <= cycle < B for (A, B) in holds."""
+
+    def __init__(self, holds):
+        self.ivals = sorted((int(a), int(b)) for a, b in holds if b > a)
+        self.edges = sorted({e for iv in self.ivals for e in iv})
+
+    def at(self, cyc: int) -> int:
+        return int(any(a <= cyc < b for a, b in self.ivals))
+
+    def next_change(self, cyc: int) -> int:
+        """The first cycle after ``cyc`` where hold may differ (NEVER: none)."""
+        k = bisect.bisect_right(self.edges, cyc)
+        return self.edges[k] if k < len(self.edges) else NEVER
+
+
+def _first_reach(c0: int, v: int, cap: int, x: int) -> int:
+    """First m >= 0 with min(c0 + m v, cap) >= x (c0 <= cap), NEVER if none."""
+    if c0 >= x:
+        return 0
+    if v <= 0 or cap < x:
+        return NEVER
+    return -(-(x - c0) // v)
+
+
+def _sg_advance(sg, c: StepCfg, k: int) -> None:
+    """``k`` edges of a STEP/DIR generator without requests, in closed form."""
+    if k <= 0:
+        return
+    steplen = max(c.steplen, 1)
+    left = k
+    while left:
+        if sg.state == S_LOW:
+            sg.low_t = min(sg.low_t + left, sg.tmax)
+            left = 0
+        else:
+            count = max(sg.cnt - 1, 0)          # edges that only count down
+            if left <= count:
+                sg.cnt -= left
+                left = 0
+            else:
+                left -= count + 1               # ... and the edge that moves on
+                if sg.state == S_SETUP:
+                    sg.state, sg.cnt = S_HIGH, steplen
+                else:
+                    sg.state, sg.low_t = S_LOW, 1
+    sg.sp_ok = int(sg.low_t >= c.stepspace)
+    sg.dh_ok = int(sg.low_t >= c.dirhold)
+
+
+def _sg_ready_at(sg, c: StepCfg, d: int) -> int:
+    """First clock j >= 0 (no requests meanwhile) during which the generator is ready
+    for direction ``d`` (NEVER if it never is)."""
+    if sg.state == S_LOW:
+        if sg.sp_ok and (d == sg.dir or sg.dh_ok):
+            return 0
+        t_low, low0 = 0, sg.low_t
+    else:
+        t_low = max(sg.cnt - 1, 0) + 1
+        if sg.state == S_SETUP:
+            t_low += max(max(c.steplen, 1) - 1, 0) + 1
+        low0 = 1
+    need = c.stepspace if d == sg.dir else max(c.stepspace, c.dirhold)
+    if need > sg.tmax:
+        return NEVER
+    return t_low + max(0, need - low0)
+
+
+def _quiet_clocks(m: CoreModel, more: bool, hold: int, ovq: int, limit: int) -> int:
+    """Number of clocks from now (at most ``limit``) over which the core is quiet
+    (module docstring), 0 if this clock is not.  ``more``: commands remain."""
+    if m.o_move or m.o_err:
+        return 0
+    if more and len(m.queue) < m.depth:
+        return 0
+    arc, line = m.arc, m.line
+    running = "arc" if arc.run is not None else ("line" if line.run is not None else None)
+    if running is not None and len(m.moves) < m.move_depth:
+        return 0
+    av, lv = arc.vstate, line.vstate
+    if av not in (V_IDLE, V_HOLD) or lv not in (L_IDLE, L_HOLD):
+        return 0
+    if (av == V_HOLD or lv == L_HOLD) and (not m.accepted or running is None):
+        return 0
+    if arc.out.reject or line.out.reject:
+        return 0
+    if m.inflight is None and m.queue:
+        h = m.head_view()
+        if h.pop or h.take is not None or h.err_code or h.inflight_clear:
+            return 0
+    st = m.stage
+    if st.ov_q != ovq:
+        return 0
+    k = limit
+    cur = st.cur
+    if cur is None:
+        if st.v or st.ramp_on or st.ramp_dry or st.ramp_v or st.ramp_left or m.profiles:
+            return 0
+        busy = m.queue or m.inflight is not None or running is not None \
+            or av != V_IDLE or lv != L_IDLE or m.moves
+        if not (more or busy):
+            return 0                    # run_program counts idle clocks here
+        return k
+    cap = (cur.largest_cost() << pf.COST_SHIFT) << 1
+    c0, v = st.credit, st.v
+    if c0 > cap:
+        return 0
+    dry_cond = not m.profiles and cur.v_exit
+    # the exit staircase
+    if not st.ramp_on:
+        if st.ramp_left:
+            return 0
+        k = min(k, _first_reach(c0, v, cap, max(cur.d_exit - st.s, 0) << pf.COST_SHIFT))
+        if dry_cond:
+            k = min(k, _first_reach(c0, v, cap, max(cur.d_stop - st.s, 0) << pf.COST_SHIFT))
+    else:
+        if st.ramp_dry and not dry_cond:
+            return 0
+        k = min(k, max(_first_reach(c0, v, cap, c0 + st.ramp_left) - 1, 0))
+    if k == 0:
+        return 0
+    # the speed: a step when the target differs and the cadence allows it
+    target = ((cur.v_cruise << pf.SPEED_SHIFT) * st.ov_q) >> 7
+    if st.ramp_on:
+        target = min(target, st.ramp_v)
+    if hold:
+        target = 0
+    if target != v:
+        direction = 1 if target > v else -1
+        if st.last_dir != direction or st.since >= st.tick:
+            return 0
+        k = min(k, st.tick - st.since)
+    # the head move: pops on the first clock with the credit and every axis ready
+    if m.moves:
+        head = m.moves[0]
+        cost = pf.move_cost(head.cost_class, cur)
+        jc = _first_reach(c0, v, cap, cost << pf.COST_SHIFT)
+        if jc < k:
+            jr = 0
+            for s, sg, c in zip(head.steps, m.stepgens, m.cfg):
+                if s:
+                    jr = max(jr, _sg_ready_at(sg, c, int(s > 0)))
+            k = min(k, max(jc, jr))
+    return k
+
+
+def _skip(m: CoreModel, k: int) -> None:
+    """Apply ``k`` quiet clocks (``_quiet_clocks`` said so) in closed form."""
+    st = m.stage
+    if st.cur is not None:
+        cap = (st.cur.largest_cost() << pf.COST_SHIFT) << 1
+        credit = min(st.credit + k * st.v, cap)
+        if st.ramp_on:
+            st.ramp_left -= credit - st.credit
+            if st.ramp_dry:
+                st.dry = 1
+        st.credit = credit
+    st.since = min(st.since + k, st.tick)
+    for sg, c in zip(m.stepgens, m.cfg):
+        _sg_advance(sg, c, k)
+    ao, lo = m.arc.out, m.line.out
+    ao.move = ao.step_x = ao.step_y = ao.done = ao.reject = 0
+    lo.move = lo.step = lo.done = lo.reject = 0
+    m.abort_pin = m.stop_pin = 0
+
+
+def _new_model(axes, width, depth, tw, div, move_depth, profile_depth, cfg) -> CoreModel:
+    return CoreModel(axes, width, depth, tw, div, move_depth, profile_depth,
+                     [StepCfg(**vars(c)) for c in cfg] if cfg else [])
+
+
+def run_fast(cmds, axes: int, width: int, depth: int, tw: int, div: int, move_depth: int,
+             profile_depth: int, cfg, holds=(), override: int = pf.OVERRIDE_ONE,
+             max_clocks: int = 1 << 40) -> FastRun:
+    """Stream ``cmds`` into a fresh core back to back until it is idle again (as
+    ``spec.core.run_program``), ``hold`` high in the cycles of ``holds`` [(A, B), ...]
+    (A <= cycle < B), the feed override constant; skips the quiet stretches."""
+    m = _new_model(axes, width, depth, tw, div, move_depth, profile_depth, cfg)
+    m.clock(CoreInputs(rst=1))
+    hs = _Holds(holds)
+    ovq = min(override, pf.OVERRIDE_ONE)
+    run = FastRun([], [], [])
+    n = len(cmds)
+    idx = cyc = idle = 0
+    hold_next = hs.next_change(-1)
+    hold = hs.at(0)
+    while idx < n or idle < 4:
+        if cyc >= max_clocks:
+            raise RuntimeError(f"the core is still busy after {max_clocks} clocks")
+        if cyc >= hold_next:
+            hold = hs.at(cyc)
+            hold_next = hs.next_change(cyc)
+        k = _quiet_clocks(m, idx < n, hold, ovq, min(hold_next, max_clocks) - cyc)
+        if k > 0:
+            _skip(m, k)
+            cyc += k
+            idle = 0
+            continue
+        o = m.outputs()
+        if o.move:
+            run.times.append(cyc)
+            run.trace.append(o.pos)
+        if o.err:
+            run.errors.append(o.err_code)
+        inp = CoreInputs(hold=hold, override=override)
+        if idx < n:
+            inp.tvalid, inp.tdata = 1, cmds[idx]
+            if o.tready:
+                idx += 1
+        idle = 0 if (o.busy or idx < n) else idle + 1
+        m.clock(inp)
+        cyc += 1
+        run.exact += 1
+    run.dry, run.underrun, run.clocks = m.stage.dry, m.o_underrun, cyc
+    return run
+
+
+def run_clocked(cmds, axes: int, width: int, depth: int, tw: int, div: int, move_depth: int,
+                profile_depth: int, cfg, holds=(), override: int = pf.OVERRIDE_ONE,
+                max_clocks: int = 50_000_000) -> FastRun:
+    """The clock-by-clock reference: ``spec.core.run_program``'s loop with the same
+    hold and override inputs as ``run_fast``."""
+    m = _new_model(axes, width, depth, tw, div, move_depth, profile_depth, cfg)
+    m.clock(CoreInputs(rst=1))
+    hs = _Holds(holds)
+    run = FastRun([], [], [])
+    n = len(cmds)
+    idx = cyc = idle = 0
+    while idx < n or idle < 4:
+        if cyc >= max_clocks:
+            raise RuntimeError(f"the core is still busy after {max_clocks} clocks")
+        o = m.outputs()
+        if o.move:
+            run.times.append(cyc)
+            run.trace.append(o.pos)
+        if o.err:
+            run.errors.append(o.err_code)
+        inp = CoreInputs(hold=hs.at(cyc), override=override)
+        if idx < n:
+            inp.tvalid, inp.tdata = 1, cmds[idx]
+            if o.tready:
+                idx += 1
+        idle = 0 if (o.busy or idx < n) else idle + 1
+        m.clock(inp)
+        cyc += 1
+    run.dry, run.underrun, run.clocks, run.exact = m.stage.dry, m.o_underrun, cyc, cyc
+    return run
+
+
+# --- the bench's figure -------------------------------------------------------------------
+
+BENCH_CLOCK_HZ = 50_000_000
+BENCH_DIV = 12                      # pf.choose_div(50 MHz)
+
+
+def plate_job(scale: int = 1):
+    """A fixed plate-like job at the shipped machine's figures (50 MHz, 1 um BLU, DIV
+    12, STEP/DIR timing 100 / 100 / 250 / 250 ticks): a rounded rectangle of 4 lines
+    and 4 quarter arcs (R 10 mm), then a slot of short lines, ``scale`` times, at 10 to
+    100 mm/s (0.0002 .. 0.002 BLU per clock) and 1000 mm/s^2 (arcs 500), junctions
+    planned.  Returns (commands, StepCfg list)."""
+    r, side = 10_000, 40_000
+    body = []
+    for _ in range(scale):
+        for dx, dy, cw_turn in ((side, 0, (0, r, r, r)), (0, side, (-r, 0, -r, r)),
+                                (-side, 0, (0, -r, -r, -r)), (0, -side, (r, 0, r, -r))):
+            body.append(enc.encode_line((dx, dy, 0), True))
+            i, j, x, y = cw_turn
+            body.append(enc.encode_arc(0, i, j, x, y, True))
+        for k in range(8):
+            body.append(enc.encode_line((1500, 300 * (-1) ** k, 0), True))
+    feeds = [10.0, 100.0, 60.0, 25.0, 100.0, 40.0]
+
+    def speed(k):
+        return pf.speed_field(feeds[k % len(feeds)], 0.001, BENCH_CLOCK_HZ)
+
+    def accel(k):
+        return pf.accel_field(1000.0, 0.001, BENCH_CLOCK_HZ, BENCH_DIV) // (1 + k % 2)
+
+    from .program import profiled
+    prog = profiled(body, 3, 32, BENCH_DIV, v_cruise=speed, accel=accel,
+                    junction=lambda k: speed(k) // 3)
+    cfg = [StepCfg(100, 100, 250, 250) for _ in range(3)]
+    return prog, cfg
+
+
+def measure_clocks_per_s(scale: int = 1) -> float:
+    """Simulated clocks per second of wall time of ``run_fast`` on ``plate_job``
+    (the bench's ``model_clocks_per_s``)."""
+    prog, cfg = plate_job(scale)
+    t0 = time.perf_counter()
+    res = run_fast(prog, 3, 32, 16, 16, BENCH_DIV, 4, 2, cfg)
+    wall = time.perf_counter() - t0
+    return res.clocks / wall if wall > 0 else math.inf
