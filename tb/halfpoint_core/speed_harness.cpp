@@ -68,7 +68,9 @@ int main(int argc, char** argv) {
     top.cfg_dirhold = top.cfg_steplen;
     top.cfg_step_inv = 0;
     top.cfg_dir_inv = 0;
-    top.feed_override = 100;
+    top.feed_override = 128;
+    top.hold = 0;
+    top.stop = 0;
     top.abort_now = 0;
 
     uint64_t clocks = 0, moves = 0;

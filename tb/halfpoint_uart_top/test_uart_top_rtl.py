@@ -5,7 +5,8 @@ with Verilator and runs uart_top_cocotb.py."""
 from halfpoint.sim.env import BUILD, rtl_sources, run_cocotb
 
 PARAMS = {"CLK_HZ": 1_000_000, "BAUD": 125_000, "NA": 3, "W": 32, "DEPTH": 4,
-          "STEPLEN": 2, "STEPSPACE": 2, "DIRSETUP": 1, "DIRHOLD": 1, "BTN_ACTIVE_LOW": 1}
+          "STEPLEN": 2, "STEPSPACE": 2, "DIRSETUP": 1, "DIRHOLD": 1, "BTN_ACTIVE_LOW": 1,
+          "DIV": 3}
 
 
 def test_uart_top_rtl():
@@ -13,7 +14,8 @@ def test_uart_top_rtl():
     run_cocotb(
         toplevel="halfpoint_uart_top",
         sources=rtl_sources("halfpoint_uart_top", "halfpoint_uart_cmd", "halfpoint_core",
-                            "halfpoint_arc", "halfpoint_line", "halfpoint_stepgen"),
+                            "halfpoint_arc", "halfpoint_line", "halfpoint_stepgen",
+                            "halfpoint_profile"),
         test_module="uart_top_cocotb",
         test_dir=BUILD / "sim" / name / "run",
         parameters=PARAMS,

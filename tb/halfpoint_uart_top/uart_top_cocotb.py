@@ -15,12 +15,13 @@ from cocotbext.uart import UartSink, UartSource
 
 from halfpoint.spec import encoding as enc
 from halfpoint.spec.rules import wrap
-from halfpoint.spec.program import expect, random_arc, random_line
+from halfpoint.spec.program import expect, profiled, random_arc, random_line
 from halfpoint.spec.stepgen import StepCfg
 from halfpoint.sim.design import read_parameters
 from halfpoint.sim.timing import StepDirChecker
 
-PARAMETERS = ("CLK_HZ", "BAUD", "NA", "W", "STEPLEN", "STEPSPACE", "DIRSETUP", "DIRHOLD")
+PARAMETERS = ("CLK_HZ", "BAUD", "NA", "W", "STEPLEN", "STEPSPACE", "DIRSETUP", "DIRHOLD",
+              "DIV")
 P: dict[str, int] = {}      # the design's parameters: bind() reads them
 NA = W = CLK_NS = BIT_NS = 0
 CFG = StepCfg()
@@ -81,14 +82,16 @@ class Board:
             assert self.cycle - start < limit, "motion did not finish"
 
 
-def program(rng, n):
+def program(rng, n, speed=0.2):
+    """``n`` random arcs and lines with planned profiles (the board's STEP timing
+    allows a step every STEPLEN + STEPSPACE clocks per axis)."""
     cmds = []
     for k in range(n):
         if rng.random() < 0.5:
-            cmds.append(random_arc(rng, 2 * enc.RATE_ONE, rmax=20))
+            cmds.append(random_arc(rng, rmax=20))
         else:
-            cmds.append(random_line(rng, NA, 2 * enc.RATE_ONE, scale=20))
-    return cmds
+            cmds.append(random_line(rng, NA, scale=20))
+    return profiled(cmds, NA, W, P["DIV"], v_cruise=int(speed * (1 << 32)), accel=1 << 32)
 
 
 @cocotb.test()
@@ -99,7 +102,8 @@ async def program_over_serial(dut):
     await ClockCycles(dut.clk, 40)                 # power-on reset
     assert int(dut.enable_n.value) == 0, "drivers enabled after the power-on reset"
     cmds = program(rng, 10)
-    cmds.insert(5, enc.encode_arc(0, -30, 0, 0, 33))   # end off the circle: rejected
+    # an arc whose end is off the circle, under an arc's profile: rejected
+    cmds[6:6] = [enc.encode_profile(1 << 28, 0, 1 << 30), enc.encode_arc(0, -30, 0, 0, 33)]
     acks = [await b.send(c) for c in cmds]
     await b.idle()
     trace, final, errors = expect(cmds, NA, W)
@@ -117,9 +121,10 @@ async def abort_and_reset_buttons(dut):
     rng = random.Random(2)
     b = Board(dut)
     await ClockCycles(dut.clk, 40)
-    long_line = enc.encode_line([400, -300, 100], enc.RATE_ONE // 64)
-    await b.send(long_line)
-    await b.send(long_line)
+    long_lines = profiled([enc.encode_line([400, -300, 100])] * 2, NA, W, P["DIV"],
+                          v_cruise=(1 << 32) // 64, accel=1 << 32)
+    for c in long_lines:
+        await b.send(c)
     await ClockCycles(dut.clk, 2000)
     dut.btn_abort.value = 0                        # press
     await ClockCycles(dut.clk, 3 + P["STEPLEN"])

@@ -21,88 +21,135 @@ from pathlib import Path
 import numpy as np
 
 from ..spec import encoding as enc
+from ..spec import profile as pf
 from ..spec.arc import arc_points, full_circle_stats
 from ..spec.core import CoreModel, run_program
-from ..spec.program import random_arc, random_line
+from ..spec.program import move_count, profiled, random_arc, random_line
 from ..spec.stepgen import StepCfg, StepGenModel, StepInputs
 
 CLOCK_HZ = 100e6            # the clock the step rate is quoted at
 SEED = 1
 
 
+BENCH_DIV = 4              # the bench core's profile tick, 2^4 clocks
+ONE = 1 << 32               # a speed field of 1 BLU per clock
+
+
 @dataclass
 class BenchCore(CoreModel):
     """The core model with the bench's counters, and the naive-pacing baseline
-    (``diag_weighting=False``: every move costs the same, which is not the RTL).
+    (``diag_weighting=False``: a diagonal arc move costs as much as an axis move,
+    which is not the RTL).
 
-    Counted per clock, from the move view the model computes anyway: clocks
-    that moved, clocks a running segment was held by feed or STEP/DIR timing,
-    and clocks with work waiting but no segment running after the first move
-    (sequencing bubbles).
+    Counted per clock at the move queue's input: clocks with room in it and a
+    segment running (``stat_room``) and the moves made into it (``stat_moves``).
     """
 
     diag_weighting: bool = True
     stat_moves: int = 0
-    stat_held: int = 0
-    stat_starved: int = 0
+    stat_room: int = 0
 
-    def move_cost(self, diagonal: bool) -> int:
-        return super().move_cost(diagonal and self.diag_weighting)
+    def _peek(self, unit: str):
+        steps, cls = super()._peek(unit)
+        if cls == pf.CLASS_DIAG and not self.diag_weighting:
+            cls = pf.CLASS_AXIS
+        return steps, cls
 
-    def move_view(self):
-        m = super().move_view()
-        if m.unit is not None:
-            if m.go:
-                self.stat_moves += 1
-            else:
-                self.stat_held += 1
-        elif self.stat_moves and (self.queue or self.inflight is not None
-                                  or self.arc.vstate or self.line.vstate):
-            self.stat_starved += 1
-        return m
+    def _clock_units(self, head):
+        if len(self.moves) < self.move_depth and self._running() is not None:
+            self.stat_room += 1
+        loading, move = super()._clock_units(head)
+        self.stat_moves += move is not None
+        return loading, move
 
 
-def run_core(cmds, rate_cfg=None, diag_weighting=True, axes=3):
+def run_core(cmds, step_cfg=None, diag_weighting=True, axes=3, div=BENCH_DIV):
     """Run commands through the core model with the queue kept full; returns
     (model, move times, positions after each move)."""
-    m = BenchCore(axes, 32, 16, 16, rate_cfg or [StepCfg(1, 1, 0, 0)] * axes,
+    m = BenchCore(axes, 32, 16, 16, div, 4, 2, step_cfg or [StepCfg(1, 1, 0, 0)] * axes,
                   diag_weighting=diag_weighting)
     run = run_program(m, cmds)
     return m, run.times, run.trace
 
 
+def planned(cmds, v_cruise, accel, junction=None, div=BENCH_DIV):
+    return profiled(cmds, 3, 32, div, v_cruise=v_cruise, accel=accel, junction=junction)
+
+
 def moves_per_clock(min_moves: int):
-    """Moves per clock in which the core was not held back by the feed rate or
-    the STEP/DIR timing: moves / (moves + sequencing bubbles), counted from
-    the first move on."""
+    """Moves per clock at the move queue's input while it has room: moves made
+    into it / clocks with room and a segment running (the interpolators must not
+    wait for anything but the queue), on 300 segments at 0.45 BLU per clock."""
     rng = random.Random(SEED)
     cmds = []
     while len(cmds) < 300:
-        c = random_arc(rng, 2 * enc.RATE_ONE, cont=True) if rng.random() < 0.5 \
-            else random_line(rng, 3, 2 * enc.RATE_ONE, cont=True, scale=60)
-        d = enc.decode(c)
-        if d["opcode"] == enc.OP_LINE:
-            n = max(abs(v) for v in d["deltas"][:3])
-        else:
-            n = len(arc_points(-d["i"], -d["j"], d["x"] - d["i"], d["y"] - d["j"], d["cw"])) - 1
-        if n >= min_moves:
+        c = random_arc(rng, cont=True) if rng.random() < 0.5 \
+            else random_line(rng, 3, cont=True, scale=60)
+        if move_count(c, 3, 32) >= min_moves:
             cmds.append(c)
-    m, _, _ = run_core(cmds)
-    return m.stat_moves / (m.stat_moves + m.stat_starved), m
+    fast = int(0.45 * ONE)
+    m, _, _ = run_core(planned(cmds, fast, 1 << 33, junction=fast), [StepCfg(1, 0, 0, 0)] * 3)
+    return m.stat_moves / m.stat_room, m
 
 
-def speed_ripple(weighted: bool, r: int = 1000, rate: float = 0.25, window: int = 64):
-    """Path-speed variation along a full circle: max / min - 1 of the speed
-    over sliding windows of `window` moves, in percent."""
-    cmd = enc.encode_arc(0, -r, 0, 0, 0, int(rate * enc.RATE_ONE))
-    _, times, trace = run_core([cmd], [StepCfg(1, 0, 0, 0)] * 3, diag_weighting=weighted)
-    p = np.asarray([(0, 0)] + [t[:2] for t in trace], dtype=float)
-    seg = np.hypot(*np.diff(p, axis=0).T)            # 1 or sqrt(2) per move
+def path_speeds(times, trace, window: int):
+    """Path speed (BLU per clock) over sliding windows of ``window`` moves, from the
+    pins: the Euclidean length of the moves over the clocks they took; and the
+    window's mid time."""
+    p = np.asarray([(0, 0, 0)] + [t[:3] for t in trace], dtype=float)
+    seg = np.sqrt((np.diff(p, axis=0) ** 2).sum(axis=1))
+    cum = np.concatenate([[0.0], np.cumsum(seg)])
     t = np.asarray(times, dtype=float)
-    speeds = [seg[k + 1:k + window + 1].sum() / (t[k + window] - t[k])
-              for k in range(len(t) - window)]
-    speeds = np.asarray(speeds)
-    return 100 * (speeds.max() / speeds.min() - 1)
+    n = len(t) - window
+    v = (cum[window + 1:n + window + 1] - cum[1:n + 1]) / (t[window:] - t[:n])
+    mid = 0.5 * (t[window:] + t[:n])
+    return v, mid
+
+
+def speed_ripple(weighted: bool, r: int = 1000, speed: float = 0.25, window: int = 64):
+    """Path-speed variation along a full circle at constant planned speed: max / min
+    - 1 of the speed over sliding windows of ``window`` moves, in percent, over the
+    middle half of the circle (the ramps at its start and end excluded)."""
+    cmd = enc.encode_arc(0, -r, 0, 0, 0)
+    v = int(speed * ONE)
+    _, times, trace = run_core(planned([cmd], v, (1 << 34) - 1),
+                               [StepCfg(1, 0, 0, 0)] * 3, diag_weighting=weighted)
+    speeds, _ = path_speeds(times, trace, window)
+    q = len(speeds) // 4
+    mid = speeds[q:3 * q]
+    return 100 * (mid.max() / mid.min() - 1)
+
+
+def max_accel_over_limit(seed: int = SEED, window: int = 1024):
+    """The largest path acceleration measured from the pins over a program of
+    random arcs and lines with planned profiles (random speeds 0.05..0.45 BLU per
+    clock, random junction speeds, one acceleration), divided by the planned limit:
+    the distance the pins moved in consecutive windows of ``window`` clocks (each
+    move's Euclidean length, counted at its clock) gives the mean speed of each
+    window, the difference of two consecutive ones over ``window`` the acceleration
+    (the window's quantisation, one move of <= sqrt(3) BLU, is < 2 % of the limit).
+    Returns (ratio, details)."""
+    rng = random.Random(seed)
+    cmds = [random_arc(rng, rmin=20, rmax=80) if rng.random() < 0.5
+            else random_line(rng, 3, scale=150) for _ in range(60)]
+    accel = 1 << 29                 # speed step per tick: 2^-9 BLU per clock
+    prog = profiled(cmds, 3, 32, BENCH_DIV,
+                    v_cruise=lambda k: int(rng.uniform(0.05, 0.45) * ONE), accel=accel, rng=rng)
+    m, times, trace = run_core(prog, [StepCfg(1, 0, 0, 0)] * 3)
+    p = np.asarray([(0, 0, 0)] + [t[:3] for t in trace], dtype=float)
+    seg = np.sqrt((np.diff(p, axis=0) ** 2).sum(axis=1))
+    cum = np.concatenate([[0.0], np.cumsum(seg)])
+    t = np.asarray(times)
+    edges = np.arange(t[0], t[-1] + window, window)
+    dist = cum[np.searchsorted(t, edges, side="right")]     # distance moved before each edge
+    v = np.diff(dist) / window
+    a = np.abs(np.diff(v)) / window
+    limit = accel / float(1 << pf.SPEED_FRAC) / float(1 << BENCH_DIV)   # BLU per clock^2
+    quantum = 2 * math.sqrt(3) / window / window
+    return float(a.max() / limit), {"moves": len(trace), "clocks": int(t[-1]),
+                                    "limit_blu_per_clock2": limit, "window_clocks": window,
+                                    "quantisation_over_limit": quantum / limit,
+                                    "dry": m.outputs().dry}
 
 
 def max_step_rate(cfg: StepCfg, n: int = 200):
@@ -332,6 +379,12 @@ def main() -> int:
     mpc_short, m_short = moves_per_clock(1)
     ripple = speed_ripple(True)
     ripple_naive = speed_ripple(False)
+    accel_ratio, accel_detail = max_accel_over_limit()
+    try:
+        from ..spec.fastcore import measure_clocks_per_s
+        model_cps = measure_clocks_per_s()
+    except ImportError:             # the fast model is not there yet: the figure stays null
+        model_cps = None
     step_cfg = StepCfg(1, 1, 0, 0)
     rate = max_step_rate(step_cfg)
     comp_bps, comp_skipped = comp_speed()
@@ -365,19 +418,30 @@ def main() -> int:
         "baseline_dda_half_preset_max_error_blu": base["dda_half"]["max_error_blu"],
         "speed_ripple_pct": round(ripple, 3),
         "speed_ripple_pct_naive": round(ripple_naive, 2),
+        "max_accel_over_limit": round(accel_ratio, 4),
+        "model_clocks_per_s": model_cps and round(model_cps),
+        "demo_time_s": None,
+        "demo_time_over_feed_bound": None,
         "max_step_rate_hz_per_axis": rate * CLOCK_HZ,
         "sim_clocks_per_s_cocotb": sim_cocotb and sim_cocotb["clocks_per_s"],
         "sim_clocks_per_s_compiled": sim_compiled and sim_compiled["clocks_per_s"],
         "comp_blocks_per_s": round(comp_bps),
     }
     notes = {
-        "moves_per_clock": "300 random arcs and lines of >= 40 moves each, queue kept full, "
-                           "moves / (moves + clocks with work waiting and no segment running)",
+        "moves_per_clock": "300 random arcs and lines of >= 40 moves each at 0.45 BLU/clock, "
+                           "queue kept full: moves made into the move queue / clocks it had "
+                           "room with a segment running",
         "moves_per_clock_short_segments": "the same with segments of any length (>= 1 move)",
         "max_radial_error_blu": "full circles R = 1..2048, both directions",
         "moves_per_circle_over_r": "mean over R = 64..2048 (4*sqrt(2) = 5.657)",
-        "speed_ripple_pct": "full circle R = 1000 at 0.25 BLU/clock: max/min - 1 of the "
-                            "path speed over windows of 64 moves",
+        "speed_ripple_pct": "full circle R = 1000 planned at 0.25 BLU/clock: max/min - 1 of "
+                            "the path speed over windows of 64 moves, middle half of the circle",
+        "max_accel_over_limit": "60 random arcs and lines with planned profiles (DIV 4): largest "
+                                "path acceleration from the pins (mean speeds over 1024-clock "
+                                "windows) over the planned limit",
+        "model_clocks_per_s": "spec.fastcore.measure_clocks_per_s (null: not available)",
+        "demo_time_s": "null: the demo part is not yet run through the planned pipeline here",
+        "demo_time_over_feed_bound": "null: as demo_time_s",
         "speed_ripple_pct_naive": "same, every move costing the same time (no diagonal weighting)",
         "max_step_rate_hz_per_axis": f"steplen 1, stepspace 1 at {CLOCK_HZ / 1e6:.0f} MHz",
         "max_line_error_blu": "2000 random 3-axis lines up to 1000 BLU per axis: largest distance "

@@ -20,12 +20,12 @@ import xml.etree.ElementTree as ET
 from pathlib import Path
 
 from ..spec.core import CoreModel, run_program
-from ..spec.program import random_arc, random_line
+from ..spec.program import profiled, random_arc, random_line
 from ..sim.env import BUILD, REPO, rtl_sources, run_cocotb, setup_verilator_env
 from ..spec.stepgen import StepCfg
-from ..spec import encoding as enc
 
-CORE_SOURCES = ("halfpoint_core", "halfpoint_arc", "halfpoint_line", "halfpoint_stepgen")
+CORE_SOURCES = ("halfpoint_core", "halfpoint_arc", "halfpoint_line", "halfpoint_stepgen",
+                "halfpoint_profile")
 CLK_NS = 10          # the cocotb benches' clock period
 
 
@@ -40,9 +40,9 @@ def cocotb_speed(seed: int = 1) -> dict:
         sources=rtl_sources(*CORE_SOURCES),
         test_module="core_cocotb",
         test_dir=BUILD / "sim" / name / "run",
-        parameters={"NA": 3, "W": 32, "DEPTH": 16, "TW": 16},
+        parameters={"NA": 3, "W": 32, "DEPTH": 16, "TW": 16, "DIV": HARNESS_DIV},
         build_name=name,
-        extra_env={"HP_NA": 3, "HP_W": 32, "HP_DEPTH": 16, "HP_TW": 16, "HP_SEED": seed},
+        extra_env={"HP_SEED": seed},
         testcase="mixed_program",
         quiet=True,
     )
@@ -56,15 +56,20 @@ def cocotb_speed(seed: int = 1) -> dict:
     return {"clocks": int(clocks), "seconds": round(wall, 3), "clocks_per_s": round(clocks / wall)}
 
 
+HARNESS_DIV = 4             # the harness core's profile tick, 2^4 clocks
+
+
 def program(n: int = 300, seed: int = 1) -> list[int]:
+    """Random arcs and lines with planned profiles (0.2..0.45 BLU per clock)."""
     rng = random.Random(seed)
     cmds = []
     for _ in range(n):
         if rng.random() < 0.5:
-            cmds.append(random_arc(rng, 2 * enc.RATE_ONE, cont=True))
+            cmds.append(random_arc(rng, cont=True))
         else:
-            cmds.append(random_line(rng, 3, 2 * enc.RATE_ONE, cont=True, scale=60))
-    return cmds
+            cmds.append(random_line(rng, 3, cont=True, scale=60))
+    return profiled(cmds, 3, 32, HARNESS_DIV, v_cruise=lambda k: int(rng.uniform(0.2, 0.45) * 2**32),
+                    accel=1 << 32, rng=rng)
 
 
 def compiled_speed(repeats: int = 200, seed: int = 1) -> dict:
@@ -73,7 +78,7 @@ def compiled_speed(repeats: int = 200, seed: int = 1) -> dict:
     work = BUILD / "bench" / "speed_harness"
     work.mkdir(parents=True, exist_ok=True)
     cmds = program(seed=seed)
-    m = CoreModel(3, 32, 16, 16, [StepCfg(1, 1, 1, 1)] * 3)
+    m = CoreModel(3, 32, 16, 16, HARNESS_DIV, 4, 2, [StepCfg(1, 1, 1, 1)] * 3)
     run = run_program(m, cmds)
     vec = work / "vectors.txt"
     with vec.open("w") as f:
@@ -84,7 +89,7 @@ def compiled_speed(repeats: int = 200, seed: int = 1) -> dict:
             f.write(f"{t} {p[0]} {p[1]} {p[2]}\n")
     binary = work / "obj" / "Vhalfpoint_core"
     cmd = [str(exe), "--cc", "--exe", "--build", "-O3", "-j", "2", "--top-module", "halfpoint_core",
-           "-GNA=3", "-GW=32", "-GDEPTH=16", "-GTW=16", "-Wno-fatal", "-Mdir", str(work / "obj"),
+           "-GNA=3", "-GW=32", "-GDEPTH=16", "-GTW=16", f"-GDIV={HARNESS_DIV}", "-Wno-fatal", "-Mdir", str(work / "obj"),
            "-CFLAGS", "-O2", f"-I{REPO / 'rtl'}",
            str(REPO / "tb" / "halfpoint_core" / "speed_harness.cpp"),
            *(str(p) for p in rtl_sources(*CORE_SOURCES))]

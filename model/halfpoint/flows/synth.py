@@ -31,6 +31,7 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from ..spec.profile import choose_div
 from ..sim.env import BUILD, REPO
 
 OUT = BUILD / "synth"
@@ -69,6 +70,8 @@ TARGETS = [
            "reference: 34-bit sign-selected add/subtract, select folded into the CCU2C LUTs by hand",
            families=("ecp5",), sources=("rtl/ecp5/halfpoint_refloop_ccu2c.v",)),
     Target("halfpoint_arc", "halfpoint_arc", {"W": 32}, "arc unit, 32-bit coordinates"),
+    Target("halfpoint_profile", "halfpoint_profile", {"W": 32, "DIV": 12},
+           "motion-profile stage, 32-bit positions, tick 2^12 clocks (50 MHz)"),
     Target("halfpoint_core", "halfpoint_core", {"NA": 3, "W": 32, "DEPTH": 16, "TW": 16},
            "motion core, 3 axes, 32-bit coordinates, 16-deep queue"),
     Target("core_w16", "halfpoint_core", {"NA": 3, "W": 16, "DEPTH": 16, "TW": 16},
@@ -91,10 +94,12 @@ class Board:
 BOARDS = [
     Board("hx8k_breakout", "iCE40HX8K-CT256", ["hx8k_breakout.pcf", "halfpoint.sdc"], 12.0,
           {"CLK_HZ": 12_000_000, "BAUD": 115200, "NA": 3, "W": 32, "DEPTH": 16,
-           "STEPLEN": 24, "STEPSPACE": 24, "DIRSETUP": 24, "DIRHOLD": 24, "BTN_ACTIVE_LOW": 1}),
+           "STEPLEN": 24, "STEPSPACE": 24, "DIRSETUP": 24, "DIRHOLD": 24, "BTN_ACTIVE_LOW": 1,
+           "DIV": choose_div(12_000_000)}),
     Board("ulx3s", "LFE5U-25F-6-CABGA381", ["ulx3s.lpf"], 25.0,
           {"CLK_HZ": 25_000_000, "BAUD": 115200, "NA": 3, "W": 32, "DEPTH": 16,
-           "STEPLEN": 50, "STEPSPACE": 50, "DIRSETUP": 50, "DIRHOLD": 50, "BTN_ACTIVE_LOW": 0}),
+           "STEPLEN": 50, "STEPSPACE": 50, "DIRSETUP": 50, "DIRHOLD": 50, "BTN_ACTIVE_LOW": 0,
+           "DIV": choose_div(25_000_000)}),
 ]
 
 

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from ..spec import encoding as enc
 from ..spec.core import CoreInputs, CoreModel
+from ..spec.program import move_count, profiled
 from ..spec.stepgen import StepCfg, StepGenModel, StepInputs
 
 
@@ -20,15 +21,20 @@ def _wave(name, bits):
 
 
 def segment_boundary() -> str:
-    """An arc's last moves and the next line's first moves, queued ahead."""
+    """An arc's last moves and the next line's first moves, queued ahead (profiles
+    for 0.45 BLU per clock, the junction taken at full speed): the boundary costs
+    the pins nothing."""
     cfg = [StepCfg(1, 0, 0, 0)] * 3
-    m = CoreModel(3, 32, 16, 16, cfg)
+    m = CoreModel(3, 32, 16, 16, 1, 4, 2, cfg)
     m.clock(CoreInputs(rst=1))
-    cmds = [enc.encode_arc(0, -6, 0, 0, 0, 2 * enc.RATE_ONE, cont=True),   # full circle R=6
-            enc.encode_line([3, -2, 1], 2 * enc.RATE_ONE)]
+    fast = int(0.45 * (1 << 32))
+    arc_moves = move_count(enc.encode_arc(0, -6, 0, 0, 0), 3, 32)
+    cmds = profiled([enc.encode_arc(0, -6, 0, 0, 0, cont=True),     # full circle R=6
+                     enc.encode_line([3, -2, 1])], 3, 32, 1, v_cruise=fast, accel=1 << 36 - 3,
+                    junction=fast)
     rows = []
     idx = 0
-    for cyc in range(120):
+    for cyc in range(160):
         o = m.outputs()
         unit = "A" if m.arc.run is not None else "L" if m.line.run is not None else "-"
         rows.append((cyc, unit, o.move, o.pos, m.arc.out.done, m.line.out.done))
@@ -38,12 +44,15 @@ def segment_boundary() -> str:
             if o.tready:
                 idx += 1
         m.clock(inp)
-    # window around the boundary
-    b = next(k for k, r in enumerate(rows) if r[1] == "L")
-    win = rows[b - 7:b + 7]
+    # window around the boundary of the moves: the rows after the arc's last move
+    made = 0
+    for b, r in enumerate(rows):
+        made += r[2]
+        if made == arc_moves + 1:
+            break
+    win = rows[b - 9:b + 8]
     lines = [
         _row("cycle", [r[0] for r in win]),
-        _row("running", [r[1] for r in win]),
         _wave("move", [r[2] for r in win]),
         _row("pos x", [r[3][0] for r in win]),
         _row("pos y", [r[3][1] for r in win]),
@@ -80,6 +89,38 @@ def step_dir() -> str:
     ])
 
 
+def hold_resume(every: int = 16) -> str:
+    """Feed hold and resume on a straight line: hold asserted at clock 1600 and
+    released at 3200; sampled every ``every`` clocks (the profile tick, DIV 4):
+    hold, the path speed register (BLU per clock), moves made so far."""
+    cfg = [StepCfg(1, 0, 0, 0)] * 3
+    m = CoreModel(3, 32, 16, 16, 4, 4, 2, cfg)
+    m.clock(CoreInputs(rst=1))
+    cmds = profiled([enc.encode_line([2000, 500, 0])], 3, 32, 4, v_cruise=int(0.4 * (1 << 32)),
+                    accel=1 << 32)
+    idx = moves = 0
+    cols = []
+    for cyc in range(4800):
+        o = m.outputs()
+        hold = int(1600 <= cyc < 3200)
+        moves += o.move
+        if cyc % every == 0 and 1200 <= cyc < 3800 and (cyc // every) % 6 == 0:
+            cols.append((cyc, hold, o.speed / 2 ** 38, moves))
+        inp = CoreInputs(hold=hold)
+        if idx < len(cmds):
+            inp = CoreInputs(tvalid=1, tdata=cmds[idx], hold=hold)
+            if o.tready:
+                idx += 1
+        m.clock(inp)
+    return "\n".join([
+        _row("cycle", [c[0] for c in cols], 6),
+        _row("hold", [c[1] for c in cols], 6),
+        _row("speed", [f"{c[2]:.2f}" for c in cols], 6),
+        _row("moves", [c[3] for c in cols], 6),
+    ])
+
+
 if __name__ == "__main__":
     print("segment boundary\n" + segment_boundary())
+    print("\nfeed hold and resume\n" + hold_resume())
     print("\nSTEP/DIR\n" + step_dir())
