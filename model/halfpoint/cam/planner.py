@@ -183,6 +183,12 @@ def _projected(limits, weights) -> float:
     return best
 
 
+def projected_limit(limits, weights) -> float:
+    """A per-axis limit projected onto a direction: min_k limits_k / weights_k over
+    the axes that move (``weights``: |unit direction| per axis)."""
+    return _projected(limits, weights)
+
+
 def _unit(v) -> tuple:
     n = math.sqrt(sum(c * c for c in v))
     return tuple(c / n for c in v)
