@@ -4,7 +4,8 @@
     halfpoint arc XS YS XE YE (--cw | --ccw) [--engine model|rtl] [--width W]
     halfpoint segments FILE [--engine model|rtl]
     halfpoint compensate PROGRAM.ngc [--radius R] [--tools FILE] [--strict]
-    halfpoint run PROGRAM.ngc [--engine model|rtl] [--plot out.png] [--trace out.csv]
+    halfpoint run PROGRAM.ngc [--machine FILE] [--engine model|rtl] [--trace out.csv]
+        [--hold A:B ...] [--profile out.png] [--plot out.png] [--zoom X0,X1,Y0,Y1]
     halfpoint fit ellipse --a A --b B --tol T [--quadrant 1|2|3|4 | --full]  (parabola, hyperbola)
     halfpoint chords parabola --a A --b B --x0 X0 --x1 X1 --feed F --period T [--alg 1|2] [--substeps N]
     halfpoint demo [--out DIR] [--engine model|rtl|both]
@@ -19,6 +20,7 @@ from .spec.arc import ERR_TEXT, ArcRejected
 from .spec.rules import check_width, fits
 from .sim.engines import ENGINES, run_arcs
 from .cam.gcode import GcodeError
+from .cam.machine import MachineError
 
 
 class UsageError(Exception):
@@ -59,18 +61,25 @@ def build_parser() -> argparse.ArgumentParser:
 
     c = sub.add_parser("compensate", help="apply cutter compensation, print plain G-code")
     c.add_argument("program", help="G-code program (LinuxCNC dialect subset)")
+    c.add_argument("--machine", help="machine file (TOML; default: the shipped example "
+                                     "machine): stored positions and travel")
     _comp_args(c)
 
     r = sub.add_parser("run", help="G-code through compensation, quantisation and the core")
     r.add_argument("program", help="G-code program (LinuxCNC dialect subset)")
     _comp_args(r)
     r.add_argument("--engine", choices=ENGINES, default="model")
-    r.add_argument("--blu", type=float, default=0.001, help="BLU of X and Y in mm (default 0.001)")
-    r.add_argument("--blu-z", type=float, help="BLU of Z in mm (default: the same as --blu)")
+    r.add_argument("--machine", help="machine file (TOML; default: the shipped example "
+                                     "machine, examples/machine.toml)")
+    r.add_argument("--hold", action="append", default=[], metavar="A:B",
+                   help="feed hold high from clock cycle A until cycle B (repeatable)")
+    r.add_argument("--profile", help="write a PNG: path speed against time (measured, "
+                                     "planned, limits) and the axis speeds")
+    r.add_argument("--blu", help=argparse.SUPPRESS)
+    r.add_argument("--blu-z", help=argparse.SUPPRESS)
     r.add_argument("--plot", help="write a PNG: programmed, compensated and lattice paths")
-    r.add_argument("--trace", help="write a CSV of the lattice position after every move")
+    r.add_argument("--trace", help="write a CSV: cycle and position (BLU) after every move")
     r.add_argument("--zoom", help="plot window XMIN,XMAX,YMIN,YMAX in mm")
-
     ch = sub.add_parser("chords", help="time-division chords of a curve (seed 002), as G-code")
     chs = ch.add_subparsers(dest="curve", required=True, parser_class=_Parser)
     pa = chs.add_parser("parabola", help="y = -a x^2 + b x")
@@ -124,11 +133,14 @@ def _comp_args(p) -> None:
 
 
 def cmd_compensate(args) -> int:
+    from .cam.machine import load, load_default
     from .cam.run import load_program, print_messages, print_warnings, to_gcode
 
     if args.window < 1:
         raise UsageError("--window must be at least 1")
-    prog, comp = load_program(args.program, args.radius, args.tools, args.strict, args.window)
+    machine = load(args.machine) if args.machine else load_default()
+    prog, comp, _ = load_program(args.program, args.radius, args.tools, args.strict,
+                                 args.window, machine)
     for note in prog.notes:
         print(f"halfpoint: {args.program}: note: {note}", file=sys.stderr)
     print_messages(args.program, prog.messages)
@@ -137,26 +149,30 @@ def cmd_compensate(args) -> int:
     return 0
 
 
-def cmd_run(args) -> int:
-    from .cam.run import plot_run, print_messages, print_warnings, run_program, write_trace
-    from .sim.engines import core_runner
+def _holds(texts) -> list[tuple[int, int]]:
+    out = []
+    for t in texts:
+        parts = t.split(":")
+        try:
+            a, b = (int(v, 0) for v in parts)
+        except ValueError:
+            raise UsageError(f"--hold {t}: needs A:B, two whole clock cycles") from None
+        if not 0 <= a < b:
+            raise UsageError(f"--hold {t}: needs 0 <= A < B")
+        out.append((a, b))
+    return out
 
-    blu_z = args.blu if args.blu_z is None else args.blu_z
-    if args.blu <= 0 or blu_z <= 0:
-        raise UsageError("--blu and --blu-z must be positive")
-    res = run_program(args.program, core_runner(args.engine), args.radius, args.tools, args.strict,
-                      (args.blu, args.blu, blu_z), args.window)
-    print_messages(args.program, res.messages)
-    print_warnings(args.program, res.warnings)
-    print(f"blocks: {len(res.programmed)} programmed, {len(res.compensated)} after compensation")
-    print(f"lattice moves: {len(res.lattice)} (engine: {args.engine}, BLU {args.blu:g} mm)")
-    end = res.lattice[-1] if res.lattice else (0, 0, 0)
-    print(f"final position: {', '.join(f'{v * b:.4f}' for v, b in zip(end, res.blu))} mm")
-    print(f"max deviation of the lattice path from the compensated path: "
-          f"{res.max_dev_mm:.6f} mm ({res.max_dev_mm / args.blu:.3f} BLU, every lattice point "
-          f"against its own block; {res.corrections} correcting lines)")
-    for note in res.notes:
-        print(f"halfpoint: {args.program}: note: {note}", file=sys.stderr)
+
+def cmd_run(args) -> int:
+    from .cam.machine import load, load_default
+    from .cam.run import (plot_profile, plot_run, print_messages, print_warnings,
+                          run_program, write_trace)
+    from .sim.engines import executor
+
+    if args.blu is not None or args.blu_z is not None:
+        raise UsageError("--blu and --blu-z are gone: the BLU of each axis comes from the "
+                         "machine file (--machine FILE, axis.<name>.blu_mm)")
+    holds = _holds(args.hold)
     zoom = None
     if args.zoom:
         try:
@@ -165,9 +181,39 @@ def cmd_run(args) -> int:
             zoom = []
         if len(zoom) != 4:
             raise UsageError("--zoom needs XMIN,XMAX,YMIN,YMAX")
+    machine = load(args.machine) if args.machine else load_default()
+    res = run_program(args.program, executor(args.engine), args.radius, args.tools,
+                      args.strict, machine, holds, args.window)
+    print_messages(args.program, res.messages)
+    print_warnings(args.program, res.warnings)
+    for note in res.notes:
+        print(f"halfpoint: {args.program}: note: {note}", file=sys.stderr)
+    print(res.summary)
+    blu = res.blu
+    print(f"machine: {machine.source}, clock {machine.clock_hz} Hz, BLU "
+          f"{'/'.join(f'{b:g}' for b in blu)} mm, profile tick 2^{res.motion.div} clocks")
+    print(f"blocks: {len(res.programmed)} programmed, {len(res.compensated)} after compensation")
+    print(f"commands: {len(res.motion.commands)} motion commands with their PROFILEs, "
+          f"{len(res.motion.pauses)} dwell pauses")
+    print(f"lattice moves: {len(res.lattice)}")
+    end = res.lattice[-1] if res.lattice else (0,) * len(blu)
+    print(f"final position: {', '.join(f'{v * b:.4f}' for v, b in zip(end, blu))} mm")
+    print(f"max deviation of the lattice path from the compensated path: "
+          f"{res.max_dev_mm:.6f} mm ({res.max_dev_mm / blu[0]:.3f} BLU, every lattice point "
+          f"against its own block; {res.corrections} correcting lines)")
+    ex = res.execution
+    print(f"simulated time: {res.seconds:.6f} s ({ex.cycles} clock cycles"
+          + (f"; holds {', '.join(f'{a}:{b}' for a, b in holds)}" if holds else "") + ")")
+    if ex.dry:
+        print("dry flag set: the command stream ran dry and the core had to slow down")
+    if ex.underrun:
+        print("underrun flag set: a segment marked CONT ended with no next profile")
     if args.plot:
-        plot_run(res, args.plot, f"{args.program} ({args.engine})", zoom)
+        plot_run(res, args.plot, args.program, zoom)
         print(f"plot: {args.plot}")
+    if args.profile:
+        plot_profile(res, args.profile, f"{args.program}: path speed")
+        print(f"profile: {args.profile}")
     if args.trace:
         write_trace(res, args.trace)
         print(f"trace: {args.trace}")
@@ -242,8 +288,8 @@ def cmd_arc(args) -> int:
 
 
 def cmd_segments(args) -> int:
-    from .cam.segments import SegmentError, parse_segments
-    from .sim.engines import core_runner
+    from .cam.segments import CONFIG, SegmentError, parse_segments, segment_items
+    from .sim.engines import executor
 
     try:
         with open(args.file, encoding="utf-8") as fh:
@@ -255,9 +301,13 @@ def cmd_segments(args) -> int:
     except SegmentError as exc:
         print(f"halfpoint: {args.file}: {exc}", file=sys.stderr)
         return 3
-    cmds = [s.cmd for s in segs]
-    trace = core_runner(args.engine)(cmds)
-    out = [",".join("0" for _ in range(3))] + [",".join(str(v) for v in p) for p in trace]
+    run = executor(args.engine)(segment_items(segs), CONFIG, ())
+    if run.errors:
+        print(f"halfpoint: {args.file}: the core rejected a command (codes {run.errors})",
+              file=sys.stderr)
+        return 3
+    out = [",".join("0" for _ in range(3))] + [",".join(str(v) for v in p)
+                                                for _, p in run.moves]
     sys.stdout.write("\n".join(out) + "\n")
     return 0
 
@@ -281,6 +331,9 @@ def main(argv=None) -> int:
         return 3
     except GcodeError as exc:
         print(f"halfpoint: {getattr(args, 'program', '')}: {exc}", file=sys.stderr)
+        return 3
+    except MachineError as exc:
+        print(f"halfpoint: machine file: {exc}", file=sys.stderr)
         return 3
     except OSError as exc:
         print(f"halfpoint: cannot read {exc.filename}: {exc.strerror}", file=sys.stderr)

@@ -1,12 +1,19 @@
 # SPDX-License-Identifier: Apache-2.0
 """``halfpoint compensate`` and ``halfpoint run``: G-code end to end.
 
-run: parse -> cutter compensation -> quantisation -> the motion core (the
-model, or any executor of encoded commands such as the Verilator-simulated RTL) -> lattice path; prints the maximum deviation of the
-lattice path from the compensated path, optionally writes a plot and a CSV
-trace.  The core runs at a simulation feed of 2 BLU per clock (the STEP
-timing paces it); the programmed F values are kept in the compensated
-G-code.
+run: parse (with the machine's stored positions) -> summary and travel check ->
+cutter compensation -> quantisation -> ``cam.motion`` (the planner's speeds as a
+PROFILE before every motion command, dwells as pauses) -> an executor (the core
+model, or the Verilator-simulated RTL: ``halfpoint.sim.engines.executor``) ->
+every move with its clock cycle.  ``RunResult`` has the lattice path, the cycles,
+the flags and the maximum deviation of the lattice path from the compensated path;
+``write_trace`` writes the trace CSV, ``plot_run`` the paths, ``plot_profile`` the
+path speed against time.
+
+The trace CSV: header ``cycle,x,y,z`` (one column per axis), first row the start
+(cycle 0, the origin), then one row per move: the clock cycle of the edge that made
+the move (cycle 0 is the first clock after reset) and the absolute position after
+it, in BLU.
 """
 
 from __future__ import annotations
@@ -16,11 +23,16 @@ import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from ..spec import profile as pf
 from .comp import compensate, to_gcode
+from .gcode import Dwell as GcodeDwell
 from .gcode import Move, load_tool_table, parse
 from .geom import Arc, Line
-from .quant import DEFAULT_BLU, quantise
-from .segments import run_segments_model
+from .machine import Machine, check_program, load_default
+from .motion import Execution, MotionPlan, build_motion, core_config, run_model
+from .planner import Dwell, Segment
+from .quant import quantise
+from .summary import Summary, check_travel, summarise
 
 
 @dataclass
@@ -28,19 +40,38 @@ class RunResult:
     programmed: list[Move]
     compensated: list[Move]
     warnings: list[str]
-    lattice: list[tuple[int, int, int]]      # positions after every move (BLU)
+    lattice: list[tuple[int, ...]]           # positions after every move (BLU)
     max_dev_mm: float
-    blu: tuple[float, float, float]
+    blu: tuple
     messages: list = field(default_factory=list)   # the program's (MSG/(DEBUG/(PRINT output
     notes: tuple = ()                        # choices worth printing (tool table units)
     corrections: int = 0                     # correcting lines the quantiser inserted
+    machine: Machine | None = None
+    summary: Summary | None = None
+    motion: MotionPlan | None = None
+    execution: Execution | None = None
+    holds: tuple = ()
+
+    @property
+    def cycles(self) -> list[int]:
+        """Clock cycle of the edge that made each move."""
+        return [c for c, _ in self.execution.moves]
+
+    @property
+    def seconds(self) -> float:
+        """Simulated time of the run (its cycles at the machine's clock)."""
+        return self.execution.cycles / self.machine.clock_hz
 
 
 # the tool table used when none is named and no --radius is given
 TOOL_TABLE_BESIDE = "tools.tbl"
 
 
-def load_program(path: str, radius=None, tools_path=None, strict=False, window=5):
+def load_program(path: str, radius=None, tools_path=None, strict=False, window=5,
+                 machine: Machine | None = None):
+    """Parse (the stored G28 / G30 positions from ``machine``), summarise, check the
+    travel and compensate: returns (program, compensation, summary)."""
+    machine = machine or load_default()
     with open(path, encoding="utf-8") as fh:
         text = fh.read()
     tools = {}
@@ -56,11 +87,42 @@ def load_program(path: str, radius=None, tools_path=None, strict=False, window=5
             tools = load_tool_table(fh.read())
     # o<name> call finds name.ngc beside the program, as LinuxCNC's SUBROUTINE_PATH would
     prog = parse(text, tools=tools, radius_override=radius, source=path,
-                 search_path=(str(Path(path).resolve().parent),))
+                 search_path=(str(Path(path).resolve().parent),), positions=machine)
     if found:
         prog.notes.insert(0, f"tool table {found} (beside the program; --tools names another)")
+    summary = summarise(prog, machine)
+    check_travel(prog, machine)
     comp = compensate(prog.moves, window=window, strict=strict)
-    return prog, comp
+    return prog, comp, summary
+
+
+def plan_items_compensated(prog, moves) -> list:
+    """The compensated ``moves`` with the program's dwells (``planner.Dwell``) in
+    program order.  A dwell stands before the programmed move index ``before``; each
+    compensated move is traced back to its programmed move (the same object, else the
+    next programmed move of its line, in order), and the dwell goes before the first
+    compensated move from that index on."""
+    dwells = sorted((e for e in prog.events if isinstance(e, GcodeDwell)),
+                    key=lambda e: e.before)
+    if not dwells:
+        return list(moves)
+    where = {id(m): i for i, m in enumerate(prog.moves)}
+    items, d, p = [], 0, 0
+    for m in moves:
+        if id(m) in where:
+            p = where[id(m)]
+        else:
+            j = p
+            while j < len(prog.moves) and prog.moves[j].lineno != m.lineno:
+                j += 1
+            if j < len(prog.moves):
+                p = j
+        while d < len(dwells) and dwells[d].before <= p:
+            items.append(Dwell(dwells[d].seconds, dwells[d].lineno))
+            d += 1
+        items.append(m)
+    items += [Dwell(e.seconds, e.lineno) for e in dwells[d:]]
+    return items
 
 
 def _element(m: Move):
@@ -69,13 +131,24 @@ def _element(m: Move):
     return Line(m.start[:2], m.end[:2])
 
 
-def run_program(path: str, execute=run_segments_model, radius=None, tools_path=None,
-                strict=False, blu=(DEFAULT_BLU,) * 3, window=5) -> RunResult:
-    """``execute``: encoded commands -> positions after every move (the core
-    model by default; ``halfpoint.sim.engines.core_runner("rtl")`` for the RTL)."""
-    prog, comp = load_program(path, radius, tools_path, strict, window)
-    q = quantise(comp.moves, blu)
-    trace = execute(q.cmds)
+def run_program(path: str, execute=None, radius=None, tools_path=None, strict=False,
+                machine: Machine | None = None, holds=(), window=5, width: int = 32
+                ) -> RunResult:
+    """``execute``: an executor ``(items, CoreConfig, holds) -> Execution``
+    (``cam.motion.run_model`` by default; ``halfpoint.sim.engines.executor("rtl")`` for
+    the RTL).  ``machine``: the machine file (default ``machine.load_default()``);
+    ``holds``: (A, B) cycle intervals with hold high."""
+    machine = machine or load_default()
+    prog, comp, summary = load_program(path, radius, tools_path, strict, window, machine)
+    check_program(machine, comp.moves)
+    blu = machine.blu
+    q = quantise(comp.moves, blu, width)
+    motion = build_motion(q, plan_items_compensated(prog, comp.moves), machine, width)
+    holds = tuple((int(a), int(b)) for a, b in holds)
+    ex = (execute or run_model)(motion.items, core_config(machine, width), holds)
+    if ex.errors:
+        raise RuntimeError(f"the core rejected a command (codes {ex.errors})")
+    trace = [p for _, p in ex.moves]
     expected = sum(q.moves_per_cmd)
     if len(trace) != expected:
         raise RuntimeError(f"the core made {len(trace)} moves, the host predicted {expected}")
@@ -87,7 +160,8 @@ def run_program(path: str, execute=run_segments_model, radius=None, tools_path=N
             dev = max(dev, el.distance((p[0] * blu[0], p[1] * blu[1])))
         k += n
     return RunResult(prog.moves, comp.moves, comp.warnings, trace, dev, tuple(blu),
-                     prog.messages, tuple(prog.notes), q.corrections)
+                     prog.messages, tuple(prog.notes), q.corrections, machine, summary,
+                     motion, ex, holds)
 
 
 def _path_points(moves: list[Move], steps=64):
@@ -134,11 +208,116 @@ def plot_run(res: RunResult, out: str, title: str, zoom=None) -> None:
 
 
 def write_trace(res: RunResult, out: str) -> None:
+    """The trace CSV (module docstring)."""
+    names = "xyzabc"[:len(res.blu)]
     with open(out, "w", encoding="utf-8") as fh:
-        fh.write("move,x_blu,y_blu,z_blu,x_mm,y_mm,z_mm\n")
-        for k, p in enumerate(res.lattice, start=1):
-            fh.write(f"{k},{p[0]},{p[1]},{p[2]},{p[0] * res.blu[0]:.6f},"
-                     f"{p[1] * res.blu[1]:.6f},{p[2] * res.blu[2]:.6f}\n")
+        fh.write("cycle," + ",".join(names) + "\n")
+        fh.write("0," + ",".join("0" for _ in names) + "\n")
+        for c, p in res.execution.moves:
+            fh.write(f"{c}," + ",".join(str(v) for v in p) + "\n")
+
+
+def move_costs(res: RunResult) -> list[float]:
+    """Path length (mm) of every move as the core's profile stage counts it: a line
+    iteration its line's length over its iterations (``line_cost``), an arc move its
+    step (1 or sqrt(2) BLU)."""
+    bx = res.blu[0]
+    costs = []
+    k = 0
+    prev = (0,) * len(res.blu)
+    for pc in res.motion.commands:
+        if pc.kind == "line":
+            c = pc.profile.line_cost * bx / (1 << pf.COST_FRAC)
+            costs += [c] * pc.moves
+            k += pc.moves
+            prev = res.lattice[k - 1]
+            continue
+        for p in res.lattice[k:k + pc.moves]:
+            costs.append(math.hypot(p[0] - prev[0], p[1] - prev[1]) * bx)
+            prev = p
+        k += pc.moves
+    return costs
+
+
+def measured_speeds(res: RunResult, bins: int = 400):
+    """(bin start times s, path speed mm/s, per-axis speeds mm/s) from the trace: the
+    path (``move_costs``) and each axis's distance moved in each bin of equal clocks,
+    over the bin's time."""
+    clock = res.machine.clock_hz
+    total = max(res.execution.cycles, 1)
+    width = max(total // bins, 1)
+    nb = total // width + 1
+    path = [0.0] * nb
+    axes = [[0.0] * nb for _ in res.blu]
+    prev = (0,) * len(res.blu)
+    for (c, p), cost in zip(res.execution.moves, move_costs(res)):
+        b = c // width
+        path[b] += cost
+        for k, (u, v, s) in enumerate(zip(prev, p, res.blu)):
+            axes[k][b] += (v - u) * s
+        prev = p
+    dt = width / clock
+    times = [b * dt for b in range(nb)]
+    return times, [x / dt for x in path], [[x / dt for x in a] for a in axes]
+
+
+def planned_speeds(res: RunResult):
+    """(times s, planned path speed mm/s, speed limit mm/s) of the planner's profile,
+    dwells at rest."""
+    ts, vs, lims = [], [], []
+    t = 0.0
+    for item in res.motion.planned:
+        if isinstance(item, Dwell):
+            ts += [t, t + item.seconds]
+            vs += [0.0, 0.0]
+            lims += [math.nan, math.nan]
+            t += item.seconds
+            continue
+        seg: Segment = item
+        if seg.duration <= 0:
+            continue
+        n = 24
+        for i in range(n + 1):
+            ti = seg.duration * i / n
+            ts.append(t + ti)
+            vs.append(seg.speed_at(ti))
+            lims.append(seg.v_limit)
+        t += seg.duration
+    return ts, vs, lims
+
+
+def plot_profile(res: RunResult, out: str, title: str) -> None:
+    """Path speed against time: measured from the trace, the planner's profile and
+    the speed limits; the per-axis speeds below; hold intervals shaded."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(10, 7), sharex=True,
+                                      gridspec_kw={"height_ratios": [3, 2]})
+    tm, vm, va = measured_speeds(res)
+    tp, vp, lim = planned_speeds(res)
+    top.plot(tp, lim, "--", color="0.5", lw=0.9, label="speed limit (F, axes, arcs)")
+    top.plot(tp, vp, "-", color="C1", lw=1.2, label="planned (planner, mm)")
+    top.step(tm, vm, where="post", color="C0", lw=1.0, label="measured (core's moves)")
+    clock = res.machine.clock_hz
+    for a, b in res.holds:
+        for ax in (top, bottom):
+            ax.axvspan(a / clock, b / clock, color="C3", alpha=0.12, lw=0)
+    top.set_ylabel("path speed (mm/s)")
+    top.grid(True, lw=0.3)
+    top.legend(loc="best", fontsize=8)
+    top.set_title(title, fontsize=10)
+    for k, name in enumerate("XYZABC"[:len(res.blu)]):
+        bottom.step(tm, va[k], where="post", lw=0.9, label=name)
+    bottom.set_ylabel("axis speed (mm/s)")
+    bottom.set_xlabel("time (s)")
+    bottom.grid(True, lw=0.3)
+    bottom.legend(loc="best", fontsize=8)
+    fig.tight_layout()
+    fig.savefig(out, dpi=110)
+    plt.close(fig)
 
 
 def print_warnings(path: str, warnings) -> None:
@@ -153,5 +332,5 @@ def print_messages(path: str, messages) -> None:
               file=sys.stderr)
 
 
-__all__ = ["load_program", "run_program", "plot_run", "write_trace", "to_gcode", "print_warnings",
-           "print_messages"]
+__all__ = ["load_program", "run_program", "plot_run", "plot_profile", "write_trace", "to_gcode",
+           "print_warnings", "print_messages", "plan_items_compensated", "RunResult"]

@@ -7,24 +7,41 @@ G91 with G91.1); blank lines and lines starting with ``#`` are skipped:
     {"op": "line", "delta": [dx, dy, dz]}
     {"op": "arc", "dir": "cw" | "ccw", "center": [i, j], "end": [ex, ey]}
 
-Optional on either: ``"rate"``, path speed in BLU per clock (default 2.0;
-the STEP/DIR timing then sets the pace).  Arcs are in the XY plane.  Every
-error names the line and the reason; an arc the core would reject is an
-error of the file, found before anything runs.
+Optional on either: ``"speed"``, the cruise path speed in BLU of X per clock,
+0 < speed < 1 (default ``DEFAULT_SPEED``, 0.25), and ``"accel"``, the path
+acceleration in BLU per clock^2, 0 < accel < 2^-12 (default ``DEFAULT_ACCEL``: from
+rest to the default speed in 4 ticks).  The profile stage's tick is 2^``DIV`` clocks
+(DIV = 8).  Junctions are planned at the smaller of the two segments' speeds, the file
+starts and ends at rest, and ``spec.profile.plan_integer`` lowers every junction a
+segment cannot reach or leave (its backward and forward passes) and gives each
+PROFILE its bit-exact distances.  Arcs are in the XY plane.  Every error names the
+line and the reason; an arc the core would reject is an error of the file, found
+before anything runs.
 """
 
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass
+import math
+from dataclasses import astuple, dataclass
 
 from ..spec import encoding as enc
+from ..spec import profile as pf
 from ..spec.arc import ERR_TEXT as ARC_ERR_TEXT
 from ..spec.arc import validate
+from ..spec.core import decode_for_core
+from ..spec.program import line_cost, profiled, segment_moves
+from ..spec.stepgen import StepCfg
+from .motion import CoreConfig, run_model
 
 AXES = 3
 WIDTH = 32
-DEFAULT_RATE = 2.0
+DIV = 8                          # profile tick: 256 clocks
+DEFAULT_SPEED = 0.25             # BLU per clock
+DEFAULT_ACCEL = DEFAULT_SPEED / (4 << DIV)      # BLU per clock^2
+MAX_ACCEL = 2.0 ** -12           # a speed step per tick < 2^-4 BLU per clock
+# the core the segment files run on: STEP one clock high, no gap, no DIR setup or hold
+CONFIG = CoreConfig(AXES, WIDTH, DIV, tuple(StepCfg(1, 0, 0, 0) for _ in range(AXES)))
 
 
 class SegmentError(ValueError):
@@ -36,7 +53,9 @@ class SegmentError(ValueError):
 @dataclass
 class Segment:
     lineno: int
-    cmd: int          # encoded core command
+    cmd: int          # encoded core command (no CONT)
+    speed: int        # cruise speed, field units (BLU per clock x 2^32)
+    accel: int        # speed step per tick (BLU per clock x 2^38)
 
 
 def _int_list(obj, key, n_min, n_max, lineno):
@@ -48,6 +67,15 @@ def _int_list(obj, key, n_min, n_max, lineno):
             raise SegmentError(lineno, f'"{key}" must hold integers (BLU), got {x!r}')
         if not -(1 << (WIDTH - 1)) <= x < (1 << (WIDTH - 1)):
             raise SegmentError(lineno, f'"{key}" value {x} does not fit {WIDTH} bits')
+    return v
+
+
+def _number(obj, key, default, top, lineno, what):
+    v = obj.get(key, default)
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not 0 < v < top \
+            or not math.isfinite(v):
+        raise SegmentError(lineno, f'"{key}" must be a number of {what} in (0, {top:g}), '
+                                   f'got {v!r}')
     return v
 
 
@@ -64,17 +92,28 @@ def parse_segments(text: str) -> list[Segment]:
         if not isinstance(obj, dict):
             raise SegmentError(lineno, "a segment must be a JSON object")
         op = obj.get("op")
-        allowed = {"op", "rate"} | ({"delta"} if op == "line" else {"dir", "center", "end"})
+        if "rate" in obj:
+            raise SegmentError(lineno, '"rate" is gone: give "speed" (BLU per clock, < 1) '
+                                       'and optionally "accel" (BLU per clock^2)')
+        allowed = {"op", "speed", "accel"} | ({"delta"} if op == "line"
+                                               else {"dir", "center", "end"})
         extra = sorted(set(obj) - allowed)
-        rate = obj.get("rate", DEFAULT_RATE)
-        if isinstance(rate, bool) or not isinstance(rate, (int, float)) or not 0 < rate < 256:
-            raise SegmentError(lineno, '"rate" must be a number of BLU per clock in (0, 256)')
-        rate_q = max(1, round(rate * enc.RATE_ONE))
+        speed = _number(obj, "speed", DEFAULT_SPEED, 1, lineno, "BLU per clock")
+        accel = _number(obj, "accel", DEFAULT_ACCEL, MAX_ACCEL, lineno, "BLU per clock^2")
+        v = math.floor(speed * (1 << pf.FIELD_SPEED_FRAC))
+        a = round(accel * (1 << DIV) * (1 << pf.SPEED_FRAC))
+        if v == 0:
+            raise SegmentError(lineno, f'"speed" {speed!r} is below the field\'s LSB 2^-32')
+        if a == 0:
+            raise SegmentError(lineno, f'"accel" {accel!r} rounds to 0 (LSB 2^-38 BLU per '
+                                       f'clock per tick of 2^{DIV} clocks)')
         if op == "line":
             if extra:
                 raise SegmentError(lineno, f"unknown key {extra[0]!r} for a line")
             d = _int_list(obj, "delta", 1, AXES, lineno)
-            out.append(Segment(lineno, enc.encode_line(d + [0] * (AXES - len(d)), rate_q)))
+            if not any(d):
+                raise SegmentError(lineno, "a line must move (all deltas are 0)")
+            out.append(Segment(lineno, enc.encode_line(d + [0] * (AXES - len(d))), v, a))
         elif op == "arc":
             if extra:
                 raise SegmentError(lineno, f"unknown key {extra[0]!r} for an arc")
@@ -86,18 +125,42 @@ def parse_segments(text: str) -> list[Segment]:
             code = validate(-i, -j, ex - i, ey - j, WIDTH)
             if code:
                 raise SegmentError(lineno, f"arc rejected: {ARC_ERR_TEXT[code]}")
-            out.append(Segment(lineno, enc.encode_arc(cw, i, j, ex, ey, rate_q)))
+            out.append(Segment(lineno, enc.encode_arc(cw, i, j, ex, ey), v, a))
         else:
             raise SegmentError(lineno, f'"op" must be "line" or "arc", got {op!r}')
     return out
 
 
-def run_segments_model(cmds) -> list[tuple[int, ...]]:
-    """Positions after every move, from the cycle-accurate core model."""
-    from ..spec.core import CoreModel, run_program
-    from ..spec.stepgen import StepCfg
+def segment_items(segs: list[Segment]) -> list[int]:
+    """The command stream of a segment file: a PROFILE before every segment (module
+    docstring), CONT on every segment but the last."""
+    lengths, lcs = [], []
+    for sg in segs:
+        dec = decode_for_core(sg.cmd, AXES, WIDTH)
+        steps, classes = segment_moves(dec, WIDTH)
+        lc = line_cost(dec[1]) if dec[0] == "line" else 0
+        prm = pf.ProfileParams(1, 0, 1, lc)
+        lengths.append(sum(pf.move_cost(c, prm) for c in classes))
+        lcs.append(lc)
+    n = len(segs)
+    vc = [sg.speed for sg in segs]
+    exits = [min(vc[k], vc[k + 1]) if k < n - 1 else 0 for k in range(n)]
+    plans = pf.plan_integer(lengths, vc, exits, [sg.accel for sg in segs], DIV, lcs)
+    out = []
+    for k, (sg, p) in enumerate(zip(segs, plans)):
+        out.append(enc.encode_profile(*astuple(p)))
+        out.append(sg.cmd | enc.FLAG_CONT if k < n - 1 else sg.cmd)
+    return out
 
-    run = run_program(CoreModel(AXES, WIDTH, 16, 16, [StepCfg(1, 0, 0, 0)] * AXES), cmds)
+
+def run_segments_model(cmds) -> list[tuple[int, ...]]:
+    """Positions after every move of bare motion commands (no PROFILEs: each gets one
+    at ``DEFAULT_SPEED`` and ``DEFAULT_ACCEL``, junctions at full speed where
+    ``plan_integer`` allows), from the core model."""
+    v = math.floor(DEFAULT_SPEED * (1 << pf.FIELD_SPEED_FRAC))
+    a = round(DEFAULT_ACCEL * (1 << DIV) * (1 << pf.SPEED_FRAC))
+    items = profiled(list(cmds), AXES, WIDTH, DIV, v, a, junction=v)
+    run = run_model(items, CONFIG)
     if run.errors:
         raise RuntimeError(f"the core rejected a command (codes {run.errors})")
-    return run.trace
+    return [p for _, p in run.moves]

@@ -3,9 +3,10 @@
 
 ``run_arcs``: arc commands through the arc unit; both engines return, for each
 command, the lattice points from the start to the stop point inclusive, or the
-reject code.  ``core_runner``: encoded core commands through the motion core,
-returning the positions after every move (what ``halfpoint segments`` and
-``halfpoint run`` execute).  The ``rtl`` engines run the Verilator-built
+reject code.  ``executor``: a command stream (commands and pauses, ``cam.motion``)
+through the motion core with hold intervals, returning every move with its clock
+cycle, the error codes and the flags (what ``halfpoint segments`` and ``halfpoint
+run`` execute).  The ``rtl`` engines run the Verilator-built
 modules through cocotb and report only what the RTL's outputs showed.
 """
 
@@ -17,9 +18,6 @@ import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..cam.segments import AXES as SEG_AXES
-from ..cam.segments import WIDTH as SEG_WIDTH
-from ..cam.segments import run_segments_model
 from ..spec.arc import ERR_RANGE, ArcRejected, arc_points
 from ..spec.rules import fits
 
@@ -86,36 +84,51 @@ def run_arcs(cmds, engine: str = "model", width: int = 32) -> list[ArcOutcome]:
     raise ValueError(f"unknown engine {engine!r} (choose from {', '.join(ENGINES)})")
 
 
-def run_segments_rtl(cmds) -> list[tuple[int, ...]]:
-    """Positions after every move, from the Verilator-simulated core."""
+def run_core_rtl(items, config, holds=(), max_clocks: int | None = None):
+    """The Verilator-built ``halfpoint_core`` as an executor (``cam.motion``'s
+    interface): built with the config's NA, W, DEPTH, TW, DIV, MOVE_DEPTH and
+    PROFILE_DEPTH, driven by ``cam.motion.Feeder`` (pauses, holds) from the cocotb
+    module ``rtl_engine_core``, which reports only what the RTL's outputs showed."""
+    from ..cam.motion import Execution, Pause, max_clocks_for
     from .env import BUILD, rtl_sources, run_cocotb
 
     BUILD.mkdir(parents=True, exist_ok=True)
+    params = {"NA": config.axes, "W": config.width, "DEPTH": config.depth, "TW": config.tw,
+              "DIV": config.div, "MOVE_DEPTH": config.move_depth,
+              "PROFILE_DEPTH": config.profile_depth}
+    cfg = [vars(c) for c in config.step_cfg()]
     with tempfile.TemporaryDirectory(dir=BUILD) as tmp:
         cmd_file, out_file = Path(tmp) / "cmds.json", Path(tmp) / "out.json"
-        cmd_file.write_text(json.dumps([str(c) for c in cmds]))
+        cmd_file.write_text(json.dumps({
+            "items": [{"pause": it.clocks, "seconds": it.seconds, "lineno": it.lineno}
+                      if isinstance(it, Pause) else str(it) for it in items],
+            "holds": [list(h) for h in holds], "cfg": cfg,
+            "max_clocks": max_clocks or max_clocks_for(items, holds)}))
         run_cocotb(
             toplevel="halfpoint_core",
-            sources=rtl_sources("halfpoint_core", "halfpoint_arc", "halfpoint_line", "halfpoint_stepgen"),
+            sources=rtl_sources("halfpoint_core", "halfpoint_arc", "halfpoint_line",
+                                "halfpoint_stepgen", "halfpoint_profile"),
             test_module="halfpoint.sim.rtl_engine_core",
             test_dir=Path(tmp),
-            parameters={"NA": SEG_AXES, "W": SEG_WIDTH, "DEPTH": 16, "TW": 16},
-            build_name="engine_core",
+            parameters=params,
+            build_name="engine_core_" + "_".join(f"{k.lower()}{v}" for k, v in params.items()),
             extra_env={"HP_CMDS": str(cmd_file), "HP_OUT": str(out_file),
                        "COCOTB_LOG_LEVEL": os.environ.get("COCOTB_LOG_LEVEL", "WARNING")},
             quiet=True,
         )
         data = json.loads(out_file.read_text())
-    if data["errors"]:
-        raise RuntimeError(f"the core rejected a command (codes {data['errors']})")
-    return [tuple(p) for p in data["trace"]]
+    if "failure" in data:
+        raise RuntimeError(data["failure"])
+    return Execution([(c, tuple(p)) for c, p in data["moves"]], data["errors"], data["dry"],
+                     data["underrun"], data["cycles"])
 
 
-def core_runner(engine: str):
-    """``cmds -> positions after every move`` for an engine name (the
-    executor that ``halfpoint.cam.run.run_program`` and ``segments`` take)."""
+def executor(engine: str):
+    """``(items, CoreConfig, holds) -> Execution`` for an engine name (what
+    ``halfpoint.cam.run.run_program`` and ``segments`` take)."""
     if engine == "model":
-        return run_segments_model
+        from ..cam.motion import run_model
+        return run_model
     if engine == "rtl":
-        return run_segments_rtl
+        return run_core_rtl
     raise ValueError(f"unknown engine {engine!r} (choose from {', '.join(ENGINES)})")
