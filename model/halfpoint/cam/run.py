@@ -29,8 +29,8 @@ from .gcode import Dwell as GcodeDwell
 from .gcode import Move, load_tool_table, parse
 from .geom import Arc, Line
 from .machine import Machine, check_program, load_default
-from .motion import Execution, MotionPlan, build_motion, core_config, run_model
-from .planner import Dwell, Segment
+from .motion import Execution, MotionPlan, build_motion, core_config, max_clocks_for, run_model
+from .planner import Dwell, Segment, estimate_time
 from .quant import quantise
 from .summary import Summary, check_travel, summarise
 
@@ -134,7 +134,7 @@ def _element(m: Move):
 def run_program(path: str, execute=None, radius=None, tools_path=None, strict=False,
                 machine: Machine | None = None, holds=(), window=5, width: int = 32
                 ) -> RunResult:
-    """``execute``: an executor ``(items, CoreConfig, holds) -> Execution``
+    """``execute``: an executor ``(items, CoreConfig, holds, max_clocks=) -> Execution``
     (``cam.motion.run_model`` by default; ``halfpoint.sim.engines.executor("rtl")`` for
     the RTL).  ``machine``: the machine file (default ``machine.load_default()``);
     ``holds``: (A, B) cycle intervals with hold high."""
@@ -145,7 +145,12 @@ def run_program(path: str, execute=None, radius=None, tools_path=None, strict=Fa
     q = quantise(comp.moves, blu, width)
     motion = build_motion(q, plan_items_compensated(prog, comp.moves), machine, width)
     holds = tuple((int(a), int(b)) for a, b in holds)
-    ex = (execute or run_model)(motion.items, core_config(machine, width), holds)
+    # a bound against a hung run: three times the planned time, plus holds and pauses
+    planned_s = estimate_time(motion.planned)
+    limit = max_clocks_for(motion.items, holds,
+                           10_000_000 + 3 * math.ceil(planned_s * machine.clock_hz))
+    ex = (execute or run_model)(motion.items, core_config(machine, width), holds,
+                                max_clocks=limit)
     if ex.errors:
         raise RuntimeError(f"the core rejected a command (codes {ex.errors})")
     trace = [p for _, p in ex.moves]
