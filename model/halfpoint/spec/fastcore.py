@@ -59,9 +59,10 @@ from dataclasses import dataclass
 from . import encoding as enc
 from . import profile as pf
 from .arc import V_HOLD, V_IDLE
-from .core import CoreInputs, CoreModel, ProgramRun
+from .core import CoreInputs, CoreModel, HeadView, ProgramRun
 from .line import L_HOLD, L_IDLE
-from .stepgen import S_HIGH, S_LOW, S_SETUP, StepCfg
+from .rules import wrap
+from .stepgen import S_HIGH, S_LOW, S_SETUP, StepCfg, StepInputs
 
 NEVER = 1 << 200                    # "no event in sight" (larger than any clock count)
 
@@ -74,6 +75,7 @@ class FastRun(ProgramRun):
     underrun: int = 0               # the core's sticky underrun flag at the end
     clocks: int = 0                 # cycles simulated (the run's length)
     exact: int = 0                  # of which clocked one by one by the exact model
+    lean: int = 0                   # ... by the lean edges (``_try_pop``, ``_lean_clock``)
 
 
 class _Holds:
@@ -104,6 +106,14 @@ def _first_reach(c0: int, v: int, cap: int, x: int) -> int:
 def _sg_advance(sg, c: StepCfg, k: int) -> None:
     """``k`` edges of a STEP/DIR generator without requests, in closed form."""
     if k <= 0:
+        return
+    if sg.state == S_LOW:
+        low_t = sg.low_t + k
+        if low_t > sg.tmax:
+            low_t = sg.tmax
+        sg.low_t = low_t
+        sg.sp_ok = int(low_t >= c.stepspace)
+        sg.dh_ok = int(low_t >= c.dirhold)
         return
     steplen = max(c.steplen, 1)
     left = k
@@ -144,28 +154,34 @@ def _sg_ready_at(sg, c: StepCfg, d: int) -> int:
     return t_low + max(0, need - low0)
 
 
-def _quiet_clocks(m: CoreModel, more: bool, hold: int, ovq: int, limit: int) -> int:
-    """Number of clocks from now (at most ``limit``) over which the core is quiet
-    (module docstring), 0 if this clock is not.  ``more``: commands remain."""
-    if m.o_move or m.o_err:
-        return 0
+def _static(m: CoreModel, more: bool):
+    """The command side and the units for the next clock(s): False if something
+    discrete happens there (a beat enters the queue, the dispatcher pops, rejects or
+    hands a command over, a unit validates, a validated command enters the profile
+    queue or would start with no unit running), else the running unit's name or None.
+    Production (the running unit filling the move queue) is left to the caller."""
     if more and len(m.queue) < m.depth:
-        return 0
+        return False
     arc, line = m.arc, m.line
     running = "arc" if arc.run is not None else ("line" if line.run is not None else None)
-    if running is not None and len(m.moves) < m.move_depth:
-        return 0
     av, lv = arc.vstate, line.vstate
     if av not in (V_IDLE, V_HOLD) or lv not in (L_IDLE, L_HOLD):
-        return 0
+        return False
     if (av == V_HOLD or lv == L_HOLD) and (not m.accepted or running is None):
-        return 0
+        return False
     if arc.out.reject or line.out.reject:
-        return 0
+        return False
     if m.inflight is None and m.queue:
         h = m.head_view()
         if h.pop or h.take is not None or h.err_code or h.inflight_clear:
-            return 0
+            return False
+    return running
+
+
+def _stage_clocks(m: CoreModel, running, more: bool, hold: int, ovq: int, limit: int) -> int:
+    """Number of clocks from now (at most ``limit``) over which the profile stage is
+    quiet (module docstring), 0 if this clock is not; the STEP/DIR generators follow
+    in closed form (no requests without pops)."""
     st = m.stage
     if st.ov_q != ovq:
         return 0
@@ -175,7 +191,7 @@ def _quiet_clocks(m: CoreModel, more: bool, hold: int, ovq: int, limit: int) -> 
         if st.v or st.ramp_on or st.ramp_dry or st.ramp_v or st.ramp_left or m.profiles:
             return 0
         busy = m.queue or m.inflight is not None or running is not None \
-            or av != V_IDLE or lv != L_IDLE or m.moves
+            or m.arc.vstate != V_IDLE or m.line.vstate != L_IDLE or m.moves
         if not (more or busy):
             return 0                    # run_program counts idle clocks here
         return k
@@ -222,8 +238,8 @@ def _quiet_clocks(m: CoreModel, more: bool, hold: int, ovq: int, limit: int) -> 
     return k
 
 
-def _skip(m: CoreModel, k: int) -> None:
-    """Apply ``k`` quiet clocks (``_quiet_clocks`` said so) in closed form."""
+def _skip_stage(m: CoreModel, k: int) -> None:
+    """Apply ``k`` quiet clocks of the profile stage in closed form."""
     st = m.stage
     if st.cur is not None:
         cap = (st.cur.largest_cost() << pf.COST_SHIFT) << 1
@@ -234,11 +250,99 @@ def _skip(m: CoreModel, k: int) -> None:
                 st.dry = 1
         st.credit = credit
     st.since = min(st.since + k, st.tick)
+
+
+def _skip(m: CoreModel, k: int) -> None:
+    """Apply ``k`` quiet clocks of the whole core (no unit clocks a move, no pop)."""
+    _skip_stage(m, k)
     for sg, c in zip(m.stepgens, m.cfg):
         _sg_advance(sg, c, k)
     ao, lo = m.arc.out, m.line.out
     ao.move = ao.step_x = ao.step_y = ao.done = ao.reject = 0
     lo.move = lo.step = lo.done = lo.reject = 0
+    m.abort_pin = m.stop_pin = 0
+
+
+def _try_pop(m: CoreModel, hold: int, ovq: int) -> bool:
+    """The edge of this clock when it pops the head move and does nothing else
+    (the caller checked ``_static`` and that no unit produces): the stage's view of a
+    pop written out (``ProfileStage.view`` / ``clock``), taken only when the move is
+    not its segment's last, the staircase neither starts nor steps and the speed
+    does not step; then the move queue, STEP/DIR requests and positions.  False
+    (nothing changed) when the clock is anything else: it then runs exactly."""
+    st = m.stage
+    cur = st.cur
+    if cur is None or not m.moves or st.ov_q != ovq:
+        return False
+    head = m.moves[0]
+    if head.last:
+        return False
+    cost = pf.move_cost(head.cost_class, cur)
+    credit, v = st.credit, st.v
+    if (credit >> pf.COST_SHIFT) < cost:
+        return False
+    for s, sg, c in zip(head.steps, m.stepgens, m.cfg):
+        if s and not sg._ready(c, int(s > 0)):
+            return False
+    spent = cost << pf.COST_SHIFT
+    cap = (cur.largest_cost() << pf.COST_SHIFT) << 1
+    new_credit = min(credit + v - spent, cap)
+    gain = new_credit - (credit - spent)
+    dry_cond = not m.profiles and cur.v_exit
+    earned = st.s + (credit >> pf.COST_SHIFT)
+    left = 0
+    if not st.ramp_on:
+        if earned >= cur.d_exit or (earned >= cur.d_stop and dry_cond) or st.ramp_left:
+            return False
+    else:
+        if (st.ramp_dry and not dry_cond) or st.ramp_left <= gain:
+            return False
+        left = st.ramp_left - gain
+    target = ((cur.v_cruise << pf.SPEED_SHIFT) * st.ov_q) >> 7
+    if st.ramp_on:
+        target = min(target, st.ramp_v)
+    if hold:
+        target = 0
+    if target > v and (st.last_dir != 1 or st.since >= st.tick):
+        return False
+    if target < v and (st.last_dir != -1 or st.since >= st.tick):
+        return False
+    # the edge
+    if st.since < st.tick:
+        st.since += 1
+    st.credit = new_credit
+    st.s += cost
+    st.ramp_left = left
+    if st.ramp_on and st.ramp_dry:
+        st.dry = 1
+    m.moves.pop(0)
+    width = m.width
+    for axis, (s, sg, c) in enumerate(zip(head.steps, m.stepgens, m.cfg)):
+        if s:
+            sg.clock(c, StepInputs(req=1, req_dir=int(s > 0)))
+            m.pos[axis] = wrap(m.pos[axis] + s, width)
+        else:
+            _sg_advance(sg, c, 1)
+    ao, lo = m.arc.out, m.line.out
+    ao.move = ao.step_x = ao.step_y = ao.done = ao.reject = 0
+    lo.move = lo.step = lo.done = lo.reject = 0
+    m.o_move = 1
+    m.abort_pin = m.stop_pin = 0
+    return True
+
+
+def _lean_clock(m: CoreModel) -> None:
+    """One edge at which the stage is quiet and the command side static (the caller
+    checked both): the units clock through the specification's own section
+    (``CoreModel._clock_units``: production, a segment's end and the next one's
+    start), the stage and the STEP/DIR generators in closed form."""
+    loading, push = m._clock_units(HeadView(profile=m.profile))
+    if push is not None:
+        m.moves.append(push)
+    _skip_stage(m, 1)
+    for sg, c in zip(m.stepgens, m.cfg):
+        _sg_advance(sg, c, 1)
+    m.o_move = 0
     m.abort_pin = m.stop_pin = 0
 
 
@@ -268,12 +372,34 @@ def run_fast(cmds, axes: int, width: int, depth: int, tw: int, div: int, move_de
         if cyc >= hold_next:
             hold = hs.at(cyc)
             hold_next = hs.next_change(cyc)
-        k = _quiet_clocks(m, idx < n, hold, ovq, min(hold_next, max_clocks) - cyc)
-        if k > 0:
-            _skip(m, k)
-            cyc += k
-            idle = 0
-            continue
+        if not m.o_err:
+            more = idx < n
+            running = _static(m, more)
+            if running is not False:
+                # a quiet stretch, the edge that pops, the edge after it: in one go
+                # while each is possible (the command side stays static meanwhile)
+                stop_at = min(hold_next, max_clocks)
+                start = cyc
+                if not m.o_move and (running is None or len(m.moves) >= m.move_depth):
+                    k = _stage_clocks(m, running, more, hold, ovq, stop_at - cyc)
+                    if k > 0:
+                        _skip(m, k)
+                        cyc += k
+                    if cyc < stop_at and _try_pop(m, hold, ovq):
+                        cyc += 1
+                        run.lean += 1
+                if cyc < stop_at and (m.o_move or (running is not None
+                                                   and len(m.moves) < m.move_depth)) \
+                        and _stage_clocks(m, running, more, hold, ovq, 1):
+                    if m.o_move:
+                        run.times.append(cyc)
+                        run.trace.append(tuple(m.pos))
+                    _lean_clock(m)
+                    cyc += 1
+                    run.lean += 1
+                if cyc > start:
+                    idle = 0
+                    continue
         o = m.outputs()
         if o.move:
             run.times.append(cyc)
