@@ -211,9 +211,9 @@ def build_motion(q, items, machine: Machine, width: int = WIDTH) -> MotionPlan:
             if vc == 0:
                 raise pf.ProfileRangeError("cruise speed", f"{cruise_mm[k]:.6g} mm/s is 0 in "
                                            "the 2^-32 BLU per clock field")
-            ve = vc if exit_mm[k] >= cruise_mm[k] else \
-                pf.speed_field(exit_mm[k], bx, clock, "junction speed") if exit_mm[k] > 0 \
-                else 0
+            # a junction speed is a limit: its floor is always safe, however coarse
+            ve = vc if exit_mm[k] >= cruise_mm[k] else math.floor(
+                Fraction(exit_mm[k]) / Fraction(bx) / clock * (1 << pf.FIELD_SPEED_FRAC))
             acc = pf.accel_field(accel_mm[k], bx, clock, div)
         except pf.ProfileRangeError as exc:
             raise _range_error(m.lineno, exc) from None
