@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: Apache-2.0
-"""End to end: G-code -> compensation -> quantisation -> core (model and RTL)."""
+"""End to end: G-code -> compensation -> quantisation -> planned PROFILEs -> core (model and RTL)."""
 
 from __future__ import annotations
 
@@ -11,10 +11,13 @@ import pytest
 
 from halfpoint.cam.gcode import GcodeError, parse
 from halfpoint.cam.quant import quantise
-from halfpoint.cam.run import run_program
-from halfpoint.sim.engines import core_runner
+from halfpoint.cam import machine as mc
+from halfpoint.cam.planner import estimate_time
+from halfpoint.cam.run import run_program, write_trace
+from halfpoint.sim.engines import executor
 
 EX = Path(__file__).resolve().parents[2] / "examples"
+SIM = mc.load(EX / "machine_sim.toml")
 
 
 def hp(*args):
@@ -52,34 +55,100 @@ def test_quantise_range_and_plane_errors_name_the_line():
         quantise(prog.moves)
 
 
-@pytest.mark.parametrize("prog, radius", [("seed004_test1.ngc", 0.03), ("seed004_test2.ngc", 1.0),
-                                          ("plate.ngc", None)])
-def test_programs_end_to_end_model_and_rtl_agree(prog, radius):
+@pytest.mark.parametrize("prog, radius, machine", [
+    ("seed004_test1.ngc", 0.03, None), ("seed004_test2.ngc", 1.0, None),
+    ("plate.ngc", None, SIM)])
+def test_programs_end_to_end_on_the_model(prog, radius, machine):
+    """The shipped programs at their programmed feeds (seconds of machine time: the
+    fast model), on the default machine (1 um) and the plate on the coarse one."""
     kw = dict(radius=radius, tools_path=None if radius else str(EX / "tools.tbl"),
-              blu=(0.005,) * 3 if prog == "plate.ngc" else (0.001,) * 3)
-    m = run_program(str(EX / prog), core_runner("model"), **kw)
-    r = run_program(str(EX / prog), core_runner("rtl"), **kw)
-    assert m.lattice == r.lattice
-    assert m.max_dev_mm == r.max_dev_mm
-    blu = kw["blu"][0]
+              machine=machine)
+    m = run_program(str(EX / prog), **kw)
+    blu = m.blu[0]
     # lattice path within about one BLU of the compensated path everywhere
     assert m.max_dev_mm <= 1.0 * blu, m.max_dev_mm / blu
+    assert m.execution.dry == 0 and m.execution.underrun == 0
+    # no faster than the planner's estimate of the compensated path allows (arcs run a
+    # little slower), and not much slower
+    planned = estimate_time(m.motion.planned)
+    assert 0.99 * planned <= m.seconds <= 1.15 * planned
+
+
+PROGRAM = ("G21 G90 G17 F600000\nG1 X4\nG2 X8 Y0 I2 J0\nG4 P0.0002\nG3 X8 Y4 I0 J2\n"
+           "G1 X0 Y4\nG0 X0 Y0\nM2\n")
+
+
+def test_model_and_rtl_executors_agree_with_a_dwell_and_a_hold(tmp_path):
+    f = tmp_path / "p.ngc"
+    f.write_text(PROGRAM)
+    holds = [(9000, 15000)]
+    m = run_program(str(f), executor("model"), machine=SIM, holds=holds)
+    r = run_program(str(f), executor("rtl"), machine=SIM, holds=holds)
+    assert m.execution == r.execution
+    assert m.execution.moves and m.motion.pauses
+    write_trace(m, str(tmp_path / "m.csv"))
+    write_trace(r, str(tmp_path / "r.csv"))
+    assert (tmp_path / "m.csv").read_bytes() == (tmp_path / "r.csv").read_bytes()
+
+
+def test_trace_format(tmp_path):
+    f = tmp_path / "p.ngc"
+    f.write_text("G21 G90 F600000\nG1 X0.05 Y0.02 Z-0.03\nM2\n")
+    res = run_program(str(f), machine=SIM)
+    out = tmp_path / "t.csv"
+    write_trace(res, str(out))
+    rows = out.read_text().splitlines()
+    assert rows[0] == "cycle,x,y,z" and rows[1] == "0,0,0,0"
+    body = [[int(v) for v in r.split(",")] for r in rows[2:]]
+    assert len(body) == 5 and body[-1][1:] == [5, 2, -3]
+    cycles = [r[0] for r in body]
+    assert cycles == sorted(cycles) and len(set(cycles)) == len(cycles) and cycles[0] > 0
+    # every row one lattice move from the one before: at most 1 BLU per axis
+    prev = [0, 0, 0]
+    for r in body:
+        assert max(abs(a - b) for a, b in zip(r[1:], prev)) == 1
+        prev = r[1:]
+    assert cycles == res.cycles
 
 
 def test_run_and_compensate_commands(tmp_path):
-    png, csv = tmp_path / "p.png", tmp_path / "t.csv"
-    p = hp("run", str(EX / "seed004_test2.ngc"), "--radius", "1", "--engine", "rtl",
-           "--plot", str(png), "--trace", str(csv))
+    png, csv, prof = tmp_path / "p.png", tmp_path / "t.csv", tmp_path / "s.png"
+    p = hp("run", str(EX / "seed004_test2.ngc"), "--radius", "1", "--machine",
+           str(EX / "machine_sim.toml"), "--plot", str(png), "--trace", str(csv),
+           "--profile", str(prof), "--hold", "100000:200000")
     assert p.returncode == 0, p.stderr
     assert "max deviation of the lattice path from the compensated path" in p.stdout
+    assert "estimated run time" in p.stdout and "simulated time:" in p.stdout
+    assert "holds 100000:200000" in p.stdout
     assert "lines 5-7: skipped" in p.stderr
-    assert png.stat().st_size > 1000 and csv.read_text().startswith("move,x_blu")
+    assert png.stat().st_size > 1000 and prof.stat().st_size > 1000
+    assert csv.read_text().startswith("cycle,x,y,z\n0,0,0,0\n")
     c = hp("compensate", str(EX / "seed004_test2.ngc"), "--radius", "1")
     assert c.returncode == 0 and c.stdout.startswith("G21 G90 G91.1")
     assert "G41" not in c.stdout and "G42" not in c.stdout
     s = hp("compensate", str(EX / "seed004_test2.ngc"), "--radius", "1", "--strict")
     assert s.returncode != 0 and s.stdout == ""
     assert s.stderr.strip().count("\n") == 0 and "line 5:" in s.stderr
+
+
+@pytest.mark.parametrize("args, needle", [
+    (["--hold", "5"], "--hold 5: needs A:B"),
+    (["--hold", "9:3"], "--hold 9:3: needs 0 <= A < B"),
+    (["--blu", "0.01"], "--blu and --blu-z are gone"),
+    (["--machine", "no/such.toml"], "cannot read"),
+])
+def test_run_bad_options_one_line(args, needle):
+    p = hp("run", str(EX / "plate.ngc"), *args)
+    assert p.returncode in (2, 3) and p.stdout == ""
+    assert p.stderr.strip().count("\n") == 0 and needle in p.stderr, p.stderr
+
+
+def test_bad_machine_file_names_the_key(tmp_path):
+    bad = tmp_path / "m.toml"
+    bad.write_text((EX / "machine_sim.toml").read_text().replace(
+        "max_accel_mm_s2 = 10000000.0", "max_accel_mm_s2 = -1"))
+    p = hp("run", str(EX / "plate.ngc"), "--machine", str(bad))
+    assert p.returncode == 3 and "axis.z.max_accel_mm_s2: must be > 0" in p.stderr
 
 
 @pytest.mark.parametrize(
