@@ -73,9 +73,12 @@ def test_rtl_engine_prints_exactly_what_the_model_prints(args):
 EXAMPLE = "examples/square_with_arcs.jsonl"
 
 
-def test_segments_example_model_and_rtl_identical():
-    m = hp("segments", EXAMPLE)
-    r = hp("segments", EXAMPLE, "--engine", "rtl")
+def test_segments_example_model_and_rtl_identical(tmp_path):
+    # the shipped example still says "rate" (the lead updates it): run it with "speed"
+    f = tmp_path / "square.jsonl"
+    f.write_text(open(EXAMPLE, encoding="utf-8").read().replace('"rate"', '"speed"'))
+    m = hp("segments", str(f))
+    r = hp("segments", str(f), "--engine", "rtl")
     assert m.returncode == 0 and r.returncode == 0, m.stderr + r.stderr
     assert m.stdout == r.stdout
     rows = [tuple(map(int, ln.split(","))) for ln in m.stdout.splitlines()]
@@ -96,7 +99,8 @@ def test_segments_random_file_model_and_rtl_identical(tmp_path):
     for _ in range(40):
         if rng.random() < 0.5:
             lines.append({"op": "line", "delta": [rng.randint(-9, 9) for _ in range(3)],
-                          "rate": round(rng.uniform(0.2, 3), 3)})
+                          "speed": round(rng.uniform(0.05, 0.6), 3),
+                          "accel": rng.choice((1e-4, 2e-4))})
         else:
             i, j = rng.randint(-12, 12), rng.randint(-12, 12)
             if i == 0 and j == 0:
@@ -119,11 +123,15 @@ def test_segments_random_file_model_and_rtl_identical(tmp_path):
         ('\n# comment\n{"op": "line"}', 'line 3: "delta" must be a list'),
         ('{"op": "line", "delta": [1, 2, 3, 4]}', "line 1: \"delta\" must be a list of 1..3"),
         ('{"op": "line", "delta": [1.5, 2, 3]}', "line 1: \"delta\" must hold integers"),
-        ('{"op": "line", "delta": [1], "speed": 3}', "line 1: unknown key 'speed'"),
+        ('{"op": "line", "delta": [1], "feed": 3}', "line 1: unknown key 'feed'"),
+        ('{"op": "line", "delta": [1], "speed": 3}', 'line 1: "speed" must be a number of BLU'),
+        ('{"op": "line", "delta": [1], "accel": 0.1}', 'line 1: "accel" must be a number'),
+        ('{"op": "line", "delta": [1], "speed": 1e-12}', 'line 1: "speed" 1e-12 is below'),
+        ('{"op": "line", "delta": [0, 0]}', "line 1: a line must move"),
         ('{"op": "arc", "dir": "cw", "center": [10, 0], "end": [13, 0]}', "line 1: arc rejected: end point is off the circle"),
         ('{"op": "arc", "dir": "up", "center": [10, 0], "end": [20, 0]}', 'line 1: "dir" must be'),
         ('{"op": "arc", "dir": "cw", "center": [0, 0], "end": [1, 1]}', "line 1: arc rejected: radius is zero"),
-        ('{"op": "line", "delta": [1], "rate": -1}', 'line 1: "rate" must be'),
+        ('{"op": "line", "delta": [1], "rate": 1}', 'line 1: "rate" is gone: give "speed"'),
         ('[1, 2]', "line 1: a segment must be a JSON object"),
     ],
 )
@@ -134,6 +142,21 @@ def test_segments_bad_file_names_the_line(tmp_path, text, needle):
     assert p.returncode != 0 and p.stdout == ""
     err = p.stderr.strip().splitlines()
     assert len(err) == 1 and needle in err[0], p.stderr
+
+
+def test_segments_ramp_at_the_files_speed_and_acceleration(tmp_path):
+    """A long line at speed 0.5: the core's pace starts slow, reaches 0.5 BLU per clock
+    and slows down again (the trace's cycles, through the model executor)."""
+    from halfpoint.cam.motion import run_model
+    from halfpoint.cam.segments import CONFIG, parse_segments, segment_items
+
+    segs = parse_segments('{"op": "line", "delta": [3000, 0, 0], "speed": 0.5}\n')
+    run = run_model(segment_items(segs), CONFIG)
+    t = [c for c, _ in run.moves]
+    assert len(t) == 3000
+    first, middle, last = t[10] - t[0], t[1510] - t[1500], t[-1] - t[-11]
+    assert middle == pytest.approx(20, abs=1)       # 10 moves at 0.5 BLU per clock
+    assert first > 3 * middle and last > 3 * middle
 
 
 def test_segments_missing_file():
@@ -151,3 +174,37 @@ def test_program_messages_are_printed_with_their_line(tmp_path):
     assert f"{f}: line 2: DEBUG: r is 6" in r.stderr
     assert r.stderr.index("DEBUG") < r.stderr.index("line 4: MSG: done")
     assert "X6" in r.stdout
+
+
+# --- halfpoint run: model and RTL --------------------------------------------
+
+RUN_PROGRAM = ("G21 G90 G17 F600000\nG1 X3\nG2 X7 Y0 I2 J0\nG4 P0.0002\n"
+               "G3 X7 Y4 I0 J2\nG1 X0 Y4\nG0 X0 Y0\nM2\n")
+
+
+def test_run_model_and_rtl_print_and_write_exactly_the_same(tmp_path):
+    """A short program with lines, arcs, a dwell and a hold on the coarse simulation
+    machine: both engines print the same text and write the same trace file."""
+    import os
+
+    prog = tmp_path / "p.ngc"
+    prog.write_text(RUN_PROGRAM)
+    machine = os.path.abspath("examples/machine_sim.toml")
+    outs = {}
+    for engine in ("model", "rtl"):
+        d = tmp_path / engine
+        d.mkdir()
+        p = subprocess.run([sys.executable, "-m", "halfpoint", "run", str(prog), "--machine",
+                            machine, "--engine", engine, "--trace", "trace.csv", "--hold",
+                            "8000:14000"], capture_output=True, text=True, cwd=d)
+        assert p.returncode == 0, p.stderr
+        outs[engine] = (p.stdout, p.stderr, (d / "trace.csv").read_text())
+    assert outs["model"] == outs["rtl"]
+    text, _, trace = outs["model"]
+    assert "dwells: 1" in text and "holds 8000:14000" in text
+    rows = trace.splitlines()
+    assert rows[0] == "cycle,x,y,z" and rows[1] == "0,0,0,0"
+    cycles = [int(r.split(",")[0]) for r in rows[2:]]
+    # no move while held (the hold starts while moving: the core ramps down first)
+    held = [c for c in cycles if 8000 + 4096 <= c < 14000]
+    assert held == [], held[:5]

@@ -10,7 +10,7 @@ G91 with G91.1); blank lines and lines starting with ``#`` are skipped:
 Optional on either: ``"speed"``, the cruise path speed in BLU of X per clock,
 0 < speed < 1 (default ``DEFAULT_SPEED``, 0.25), and ``"accel"``, the path
 acceleration in BLU per clock^2, 0 < accel < 2^-12 (default ``DEFAULT_ACCEL``: from
-rest to the default speed in 4 ticks).  The profile stage's tick is 2^``DIV`` clocks
+rest to the default speed in 8 ticks).  The profile stage's tick is 2^``DIV`` clocks
 (DIV = 8).  Junctions are planned at the smaller of the two segments' speeds, the file
 starts and ends at rest, and ``spec.profile.plan_integer`` lowers every junction a
 segment cannot reach or leave (its backward and forward passes) and gives each
@@ -38,7 +38,7 @@ AXES = 3
 WIDTH = 32
 DIV = 8                          # profile tick: 256 clocks
 DEFAULT_SPEED = 0.25             # BLU per clock
-DEFAULT_ACCEL = DEFAULT_SPEED / (4 << DIV)      # BLU per clock^2
+DEFAULT_ACCEL = DEFAULT_SPEED / (8 << DIV)      # BLU per clock^2
 MAX_ACCEL = 2.0 ** -12           # a speed step per tick < 2^-4 BLU per clock
 # the core the segment files run on: STEP one clock high, no gap, no DIR setup or hold
 CONFIG = CoreConfig(AXES, WIDTH, DIV, tuple(StepCfg(1, 0, 0, 0) for _ in range(AXES)))
