@@ -3,7 +3,11 @@
 
 Prints one line per arc (moves, maximum radial error, stop point against the
 programmed end) and writes ``arcs.png``: each lattice path over its true
-circle, and the radial error along the path.
+circle, and the radial error along the path.  Then the G-code parts
+(``run_gcode_demo``): a short part with a dwell and a feed hold through both engines
+on the coarse simulation machine (``motion_profile.png``, ``motion_trace.csv``), and
+``examples/plate.ngc`` on the shipped machine through the model (``plate.png``,
+``plate_profile.png``).
 """
 
 from __future__ import annotations
@@ -87,24 +91,66 @@ def run_demo(out_dir: str, engine: str = "both") -> int:
     return run_gcode_demo(out, engines)
 
 
+# a short part for the engines' comparison: lines, arcs, a dwell, a rapid home, run on the
+# coarse simulation machine with a feed hold in the middle
+MOTION_PART = """(halfpoint demo: lines, arcs, a dwell, a feed hold; examples/machine_sim.toml)
+G21 G90 G17 F600000
+G1 X3
+G2 X7 Y0 I2 J0
+G4 P0.0002
+G3 X7 Y4 I0 J2
+G1 X0 Y4
+G0 X0 Y0
+M2
+"""
+MOTION_HOLDS = ((8000, 14000),)
+
+
 def run_gcode_demo(out: Path, engines) -> int:
-    """The shipped G-code part: cutter compensation (with a notch the cutter
-    cannot enter), arcs and lines, through the core."""
-    from ..cam.run import plot_run, print_warnings, run_program
-    from ..sim.engines import core_runner
+    """The G-code parts: a short part through the engines asked for (identical traces
+    required) on the coarse simulation machine, then the shipped plate
+    (``examples/plate.ngc``: cutter compensation with a notch the cutter cannot enter,
+    arcs and lines) at its programmed feeds on the shipped machine, through the model
+    (seconds of machine time: tens of millions of clocks, which the Verilator RTL driven
+    clock by clock from Python cannot run in a demo)."""
+    from ..cam import machine as mc
+    from ..cam.run import plot_profile, plot_run, print_warnings, run_program, write_trace
+    from ..sim.engines import executor
 
     root = REPO / "examples"
-    prog, tools = root / "plate.ngc", root / "tools.tbl"
-    blu = (0.005,) * 3
-    runs = {e: run_program(str(prog), core_runner(e), tools_path=str(tools), blu=blu) for e in engines}
+    sim = mc.load(root / "machine_sim.toml")
+    part = out / "motion.ngc"
+    part.write_text(MOTION_PART, encoding="utf-8")
+    runs = {e: run_program(str(part), executor(e), machine=sim, holds=MOTION_HOLDS)
+            for e in engines}
     res = runs[engines[-1]]
-    if len(engines) == 2 and runs["model"].lattice != runs["rtl"].lattice:
-        print("halfpoint demo: model and RTL differ on examples/plate.ngc", file=sys.stderr)
+    if len(engines) == 2 and runs["model"].execution != runs["rtl"].execution:
+        print("halfpoint demo: model and RTL differ on the motion part", file=sys.stderr)
         return 1
+    write_trace(res, str(out / "motion_trace.csv"))
+    png = out / "motion_profile.png"
+    plot_profile(res, str(png), f"demo motion part, hold at cycles {MOTION_HOLDS[0][0]}.."
+                 f"{MOTION_HOLDS[0][1]}, engine: {' = '.join(engines)}")
+    print(f"\nmotion part ({part}, examples/machine_sim.toml): {len(res.lattice)} moves in "
+          f"{res.execution.cycles} clocks ({res.seconds * 1e3:.3f} ms simulated), engines "
+          f"{' = '.join(engines)}" + (" (identical traces)" if len(engines) == 2 else ""))
+    print(f"profile: {png}")
+
+    prog, tools = root / "plate.ngc", root / "tools.tbl"
+    machine = mc.load(root / "machine.toml")
+    res = run_program(str(prog), tools_path=str(tools), machine=machine)
     print_warnings("examples/plate.ngc", res.warnings)
-    print(f"\nexamples/plate.ngc (G42, 6 mm cutter, BLU {blu[0]} mm): {len(res.lattice)} lattice moves, "
-          f"max deviation from the compensated path {res.max_dev_mm * 1000:.2f} um")
+    print(f"\nexamples/plate.ngc (G42, 6 mm cutter, examples/machine.toml, BLU "
+          f"{res.blu[0]} mm): {len(res.lattice)} lattice moves, max deviation from the "
+          f"compensated path {res.max_dev_mm * 1000:.2f} um, {res.seconds:.3f} s simulated "
+          f"(planner estimate {res.summary.seconds:.3f} s; model)"
+          + (", dry flag set" if res.execution.dry else "")
+          + (", underrun flag set" if res.execution.underrun else ""))
     png = out / "plate.png"
-    plot_run(res, str(png), f"examples/plate.ngc, engine: {' = '.join(engines)}")
+    plot_run(res, str(png), "examples/plate.ngc, engine: model")
     print(f"plot: {png}")
+    png = out / "plate_profile.png"
+    plot_profile(res, str(png), "examples/plate.ngc on examples/machine.toml: path speed "
+                 "(model)")
+    print(f"profile: {png}")
     return 0
