@@ -86,7 +86,7 @@ module halfpoint_profile #(
 ) (
     input  wire          clk,
     input  wire          rst,        // synchronous, active high: ProfileStage.reset()
-    input  wire          abort,      // ProfileInputs.abort
+    input  wire          abort_now,  // ProfileInputs.abort
 
     /*
      * Head of the move queue
@@ -112,7 +112,8 @@ module halfpoint_profile #(
      */
     input  wire          hold,
     input  wire          stop,
-    input  wire [7:0]    override,   // 1/128 units, above 128 acts as 128
+    // ProfileInputs.override: 1/128 units, above 128 acts as 128
+    input  wire [7:0]    feed_override,
 
     /*
      * Combinational, during the clock (ProfileView)
@@ -140,7 +141,8 @@ module halfpoint_profile #(
     endgenerate
 
     localparam integer DW = W + 19;                             // distances
-    localparam integer RW = (W + 43 > DIV + 40) ? W + 43 : DIV + 40;  // ramp_left
+    localparam integer RW = (W + 43 > DIV + 41) ? W + 43 : DIV + 41;  // ramp_left
+    localparam integer VW = 38;                                 // speeds
     localparam [17:0] COST_AXIS = 18'd65536;                    // 2^16
     localparam [17:0] COST_DIAGONAL = 18'd92682;                // round(sqrt(2) x 2^16)
     localparam [7:0] OVERRIDE_ONE = 8'd128;
@@ -150,23 +152,36 @@ module halfpoint_profile #(
     // Registers
     // ------------------------------------------------------------------
     reg           cur_valid_q;      // a segment is current (the model's cur)
-    reg  [31:0]   v_cruise_q;       // its fields (v_exit as exit_speed_q below)
-    reg  [33:0]   accel_q;          // kept after the segment ends (the model's accel)
+    reg  [31:0]   v_cruise_q;       // its fields, v_cruise and accel kept after it ends
+    reg  [33:0]   accel_q;
     reg  [17:0]   line_cost_q;
     reg  [DW-1:0] d_exit_q;
     reg  [DW-1:0] d_stop_q;
-    // derived from the fields when the profile is taken (only their
-    // function is used: no compare or OR tree in the clock's paths)
+    // derived from the fields when the profile is taken
     reg           exit_nonzero_q;   // v_exit != 0
     reg  [37:0]   exit_speed_q;     // v_exit << 6, or the creep speed accel for 0
+    reg  [38:0]   exit_plus_accel_q;    // exit_speed + accel
     reg  [40:0]   cap_q;            // twice the largest cost, x 2^22
+    reg  [RW-1:0] cruise_level_q;   // (v_cruise << 6) x (2^DIV - 1): the first level
+    reg  [RW-1:0] accel_level_q;    // accel x (2^DIV - 4), signed
+    reg  [RW-1:0] exit_level_q;     // exit_speed x (2^DIV - 4), signed
     reg  [37:0]   v_q;              // speed
-    reg  [40:0]   credit_q;
+    reg  [37:0]   target_q;         // its target, a clock ahead
+    reg  [41:0]   credit_q;
+    reg           full_q;           // the credit was at its cap a clock ago
     reg  [DW-1:0] s_q;              // popped distance in the segment
     reg  [DIV-1:0] since_q;         // clocks since the last speed step - 1, saturating
     reg           last_up_q;        // direction of the last speed step
     reg           last_down_q;
     reg           dry_q;            // sticky: a dry queue forced a deceleration
+    reg  [7:0]    ov_q;             // the override, clipped at 128
+    reg  [37:0]   ov_part_a_q;      // the model's ov_prod as four partial sums
+    reg  [37:0]   ov_part_b_q;
+    reg  [37:0]   ov_part_c_q;
+    reg  [37:0]   ov_part_d_q;
+    reg  [37:0]   ov_target_q;
+    reg           past_exit_q;      // E >= d_exit a clock ago
+    reg           past_stop_q;      // E >= d_stop a clock ago
     reg           ramp_on_q;        // the exit staircase
     reg           ramp_dry_q;
     reg  [37:0]   ramp_v_q;
@@ -185,180 +200,229 @@ module halfpoint_profile #(
             default: cost = line_cost_q;
         endcase
     end
-    wire [18:0]   credit_whole = credit_q[40:22];              // credit in cost units
-    wire          can_pop = cur_valid_q && head_valid && (credit_whole >= {1'b0, cost});
+    wire [19:0]   credit_whole = credit_q[41:22];              // credit in cost units
+    wire          can_pop = cur_valid_q && head_valid && (credit_whole >= {2'b0, cost});
     wire          pop_now = can_pop && ready && !at_rest_stop;
     wire          take_now = next_valid && (cur_valid_q ? (pop_now && head_last) : !stop);
     wire          segment_ends = pop_now && head_last;
 
-    assign pop     = pop_now && !abort;
-    assign take    = take_now && !abort;
-    assign stopped = at_rest_stop && !abort;
-    assign holding = hold && v_zero && !can_pop && !abort;
+    assign pop     = pop_now && !abort_now;
+    assign take    = take_now && !abort_now;
+    assign stopped = at_rest_stop && !abort_now;
+    assign holding = hold && v_zero && !can_pop && !abort_now;
 
     // ------------------------------------------------------------------
-    // Credit: + v, - the popped cost, capped at twice the largest cost.
-    // Both outcomes (the head pops or not) are computed side by side from
-    // the registers and the head's cost; pop_now only selects between them,
-    // so the pop decision does not sit in front of the adders.
+    // Credit: + v unless it was at its cap a clock ago, - the popped cost;
+    // both outcomes side by side, pop_now selects
     // ------------------------------------------------------------------
-    wire [40:0]   cap = cap_q;
-    wire [40:0]   cost_credit = {1'b0, cost, 22'd0};                    // cost x 2^22
-    wire [41:0]   credit_sum = {1'b0, credit_q} + {4'd0, v_q};         // < 2^41 + 2^38
-    wire [41:0]   cap_plus_cost = {1'b0, cap} + {1'b0, cost_credit};   // < 2^42
-    // capped: credit - spent + v > cap, i.e. credit + v > cap + spent
-    wire          capped_keep = (credit_sum > {1'b0, cap});
-    wire          capped_pop = (credit_sum > cap_plus_cost);
-    wire          capped = pop_now ? capped_pop : capped_keep;
-    // credit - cost + v when it pops (spent <= credit_q: a pop needs
-    // credit_whole >= cost); used only uncapped, so below the cap < 2^41
-    wire [40:0]   credit_popped = credit_sum[40:0] - cost_credit;
-    wire [40:0]   credit_new = capped ? cap : (pop_now ? credit_popped : credit_sum[40:0]);
-    // the earned distance grows by gain = credit_new - (credit - spent): v, or
-    // the headroom cap - (credit - spent) when capped; negative only on a
-    // segment's first clock (carried credit above the new cap), > -2^41: 42
-    // bits two's complement
-    wire [41:0]   headroom_keep = {1'b0, cap} - {1'b0, credit_q};
-    wire [41:0]   headroom_pop = cap_plus_cost - {1'b0, credit_q};
-    wire [41:0]   headroom = pop_now ? headroom_pop : headroom_keep;
-    wire [41:0]   gain = capped ? headroom : {4'd0, v_q};
-    wire [RW-1:0] gain_wide = {{(RW-42){gain[41]}}, gain};
-    // ramp_left <= gain, each outcome compared on its own
-    wire          left_le_v = ($signed(ramp_left_q) <= $signed({{(RW-38){1'b0}}, v_q}));
-    wire          left_le_keep = ($signed(ramp_left_q)
-                                  <= $signed({{(RW-42){headroom_keep[41]}}, headroom_keep}));
-    wire          left_le_pop = ($signed(ramp_left_q)
-                                 <= $signed({{(RW-42){headroom_pop[41]}}, headroom_pop}));
-    wire          left_le_gain = !capped ? left_le_v : (pop_now ? left_le_pop : left_le_keep);
+    wire [37:0]   gain = full_q ? 38'd0 : v_q;
+    wire [41:0]   credit_keep = credit_q + {4'd0, gain};
+    // credit + gain - (cost << 22): one carry-save level, the +1 of the
+    // negated cost in the free bit 0 of the carries
+    wire [41:0]   cp_a = credit_q;
+    wire [41:0]   cp_b = {4'd0, gain};
+    wire [41:0]   cp_c = ~{2'd0, cost, 22'd0};
+    wire [41:0]   cp_sum = cp_a ^ cp_b ^ cp_c;
+    wire [40:0] cp_maj = (cp_a[40:0] & cp_b[40:0]) | (cp_a[40:0] & cp_c[40:0])
+                         | (cp_b[40:0] & cp_c[40:0]);
+    wire [41:0]   credit_popped = cp_sum + {cp_maj, 1'b1};
+    wire [41:0]   credit_new = pop_now ? credit_popped : credit_keep;
+    wire          at_cap = (credit_q >= {1'b0, cap_q});
 
-    // earned distance E = s + credit / 2^22 (W + 20 bits: no carry lost)
-    wire [DW:0]   earned = {1'b0, s_q} + {{(DW-18){1'b0}}, credit_whole};
-    wire          past_exit = (earned >= {1'b0, d_exit_q});
-    wire          past_stop = (earned >= {1'b0, d_stop_q});
+    // earned distance E = s + credit / 2^22 against d_exit and d_stop:
+    // s + credit_whole - d >= 0, one carry-save level and one carry chain each
+    wire [DW+1:0] e_s = {2'd0, s_q};
+    wire [DW+1:0] e_c = {{(DW-18){1'b0}}, credit_whole};
+    wire [DW+1:0] ex_d = ~{2'd0, d_exit_q};
+    wire [DW+1:0] ex_sum = e_s ^ e_c ^ ex_d;
+    wire [DW:0]   ex_maj = (e_s[DW:0] & e_c[DW:0]) | (e_s[DW:0] & ex_d[DW:0])
+                           | (e_c[DW:0] & ex_d[DW:0]);
+    wire [DW+1:0] ex_diff = ex_sum + {ex_maj, 1'b1};
+    wire [DW+1:0] st_d = ~{2'd0, d_stop_q};
+    wire [DW+1:0] st_sum = e_s ^ e_c ^ st_d;
+    wire [DW:0]   st_maj = (e_s[DW:0] & e_c[DW:0]) | (e_s[DW:0] & st_d[DW:0])
+                           | (e_c[DW:0] & st_d[DW:0]);
+    wire [DW+1:0] st_diff = st_sum + {st_maj, 1'b1};
+    wire          earned_past_exit = !ex_diff[DW+1];
+    wire          earned_past_stop = !st_diff[DW+1];
 
     // ------------------------------------------------------------------
-    // Exit staircase (ProfileStage._ramp)
+    // Exit staircase (ProfileStage._ramp): every decision from registers
     // ------------------------------------------------------------------
-    // ov_target_q: the override applied to the cruise speed, registered
-    // (see below); every candidate for the staircase's speed is compared
-    // with it side by side
-    reg  [37:0]   ov_target_q;
-    wire          exit_nonzero = exit_nonzero_q;
-    wire [37:0]   exit_speed = exit_speed_q;
     wire [37:0]   cruise = {v_cruise_q, 6'd0};
-    wire          dry_condition = !next_valid && exit_nonzero;
-    // a step happens only while the staircase runs on (ramp_on_q, and not
-    // returning from the dry mode), where its speed is ramp_v_q and the
-    // floor is the one of ramp_dry_q: the stepped speed comes from registers
-    wire [37:0]   floor_held = ramp_dry_q ? {4'd0, accel_q} : exit_speed;
-    wire [38:0]   ramp_down = {1'b0, ramp_v_q} - {5'd0, accel_q};
-    wire          ramp_below = ramp_down[38] || (ramp_down[37:0] < floor_held);
-    wire [37:0]   ramp_stepped = ramp_below ? floor_held : ramp_down[37:0];
-    wire          stepped_under = (ramp_stepped < ov_target_q);
-    wire          cruise_under = (cruise < ov_target_q);
-    wire          held_under = (ramp_v_q < ov_target_q);
-    wire          exit_under = (exit_speed < ov_target_q);
+    wire          dry_condition = !next_valid && exit_nonzero_q;
+    wire [37:0]   floor_held = ramp_dry_q ? {4'd0, accel_q} : exit_speed_q;
+    wire [38:0]   floor_plus_accel = ramp_dry_q ? {4'd0, accel_q, 1'b0} : exit_plus_accel_q;
+    wire          ramp_below = ({1'b0, ramp_v_q} < floor_plus_accel);
+    wire [37:0]   ramp_down = ramp_v_q - {4'd0, accel_q};
+    wire [37:0]   ramp_stepped = ramp_below ? floor_held : ramp_down;
+    wire          exit_above = (exit_speed_q > ramp_v_q);
     reg           ramp_on_n;        // after this edge (before the segment's end clears it)
     reg           ramp_dry_n;
     reg           ramp_start;
     reg           ramp_step;
     reg  [37:0]   ramp_v_a;         // the staircase's speed unless it steps
-    reg           ramp_a_under;     // ramp_v_a < ov_target_q
     always @(*) begin
-        ramp_on_n    = ramp_on_q;
-        ramp_dry_n   = ramp_dry_q;
-        ramp_start   = 1'b0;
-        ramp_step    = 1'b0;
-        ramp_v_a     = ramp_v_q;
-        ramp_a_under = held_under;
+        ramp_on_n  = ramp_on_q;
+        ramp_dry_n = ramp_dry_q;
+        ramp_start = 1'b0;
+        ramp_step  = 1'b0;
+        ramp_v_a   = ramp_v_q;
         if (!ramp_on_q) begin
-            if (past_exit) begin
-                ramp_on_n    = 1'b1;
-                ramp_start   = 1'b1;
-                ramp_v_a     = cruise;
-                ramp_a_under = cruise_under;
-            end else if (past_stop && dry_condition) begin
-                ramp_on_n    = 1'b1;
-                ramp_start   = 1'b1;
-                ramp_dry_n   = 1'b1;
-                ramp_v_a     = cruise;
-                ramp_a_under = cruise_under;
+            if (past_exit_q) begin
+                ramp_on_n  = 1'b1;
+                ramp_start = 1'b1;
+                ramp_v_a   = cruise;
+            end else if (past_stop_q && dry_condition) begin
+                ramp_on_n  = 1'b1;
+                ramp_start = 1'b1;
+                ramp_dry_n = 1'b1;
+                ramp_v_a   = cruise;
             end
         end else if (ramp_dry_q && !dry_condition) begin
             // the next profile came: back to the plan
             ramp_dry_n = 1'b0;
-            if (!past_exit) begin
+            if (!past_exit_q) begin
                 ramp_on_n = 1'b0;
-            end else if (exit_speed > ramp_v_q) begin
-                ramp_v_a     = exit_speed;
-                ramp_a_under = exit_under;
+            end else if (exit_above) begin
+                ramp_v_a = exit_speed_q;
             end
         end else begin
-            // this clock ends the level
-            ramp_step = left_le_gain;
+            // the level ran out on an earlier clock
+            ramp_step = ramp_left_q[RW-1];
         end
     end
     wire [37:0]   ramp_v_n = ramp_step ? ramp_stepped : ramp_v_a;
-    wire          ramp_under = ramp_step ? stepped_under : ramp_a_under;
-    // distance left in the level; a level is 2^DIV clocks of its speed
-    wire [RW-1:0] level_start = {{(RW-38){1'b0}}, ramp_v_a} << DIV;
-    wire [RW-1:0] level_next = {{(RW-38){1'b0}}, ramp_stepped} << DIV;
-    wire [RW-1:0] ramp_left_n = (ramp_start ? level_start : ramp_left_q) - gain_wide
-                                + (ramp_step ? level_next : {RW{1'b0}});
+    // the remainder: - gain every clock; a step adds the next level,
+    // (stepped << DIV) + 4 x (ramp_v - stepped), i.e. (ramp_v << DIV) -
+    // accel x (2^DIV - 4) unclamped and floor x (2^DIV - 4) + (ramp_v << 2)
+    // at the floor; each as two carry-save levels and one carry chain
+    wire [RW-1:0] gain_wide = {{(RW-38){1'b0}}, gain};
+    wire [RW-1:0] gain_neg = ~gain_wide;                        // -gain - 1
+    wire [RW-1:0] left_held = ramp_left_q - gain_wide;
+    wire [RW-1:0] left_start = cruise_level_q - gain_wide;
+    wire [RW-1:0] rv_level = {{(RW-38){1'b0}}, ramp_v_q} << DIV;
+    wire [RW-1:0] su_x = ramp_left_q ^ gain_neg ^ rv_level;
+    wire [RW-2:0] su_m = (ramp_left_q[RW-2:0] & gain_neg[RW-2:0])
+                         | (ramp_left_q[RW-2:0] & rv_level[RW-2:0])
+                         | (gain_neg[RW-2:0] & rv_level[RW-2:0]);
+    wire [RW-1:0] su_y = {su_m, 1'b1};
+    wire [RW-1:0] su_k = ~accel_level_q;
+    wire [RW-1:0] su_x2 = su_x ^ su_y ^ su_k;
+    wire [RW-2:0] su_m2 = (su_x[RW-2:0] & su_y[RW-2:0]) | (su_x[RW-2:0] & su_k[RW-2:0])
+                          | (su_y[RW-2:0] & su_k[RW-2:0]);
+    wire [RW-1:0] left_step_down = su_x2 + {su_m2, 1'b1};
+    wire [RW-1:0] floor_level = ramp_dry_q ? accel_level_q : exit_level_q;
+    wire [RW-1:0] rv_four = {{(RW-38){1'b0}}, ramp_v_q} << 2;
+    wire [RW-1:0] sf_x = ramp_left_q ^ gain_neg ^ floor_level;
+    wire [RW-2:0] sf_m = (ramp_left_q[RW-2:0] & gain_neg[RW-2:0])
+                         | (ramp_left_q[RW-2:0] & floor_level[RW-2:0])
+                         | (gain_neg[RW-2:0] & floor_level[RW-2:0]);
+    wire [RW-1:0] sf_y = {sf_m, 1'b1};
+    wire [RW-1:0] sf_x2 = sf_x ^ sf_y ^ rv_four;
+    wire [RW-2:0] sf_m2 = (sf_x[RW-2:0] & sf_y[RW-2:0]) | (sf_x[RW-2:0] & rv_four[RW-2:0])
+                          | (sf_y[RW-2:0] & rv_four[RW-2:0]);
+    wire [RW-1:0] left_step_floor = sf_x2 + {sf_m2, 1'b0};
+    wire [RW-1:0] ramp_left_n = ramp_start ? left_start
+                                : (!ramp_step ? left_held
+                                   : (ramp_below ? left_step_floor : left_step_down));
     wire          dry_now = cur_valid_q && ramp_on_n && ramp_dry_n;
 
     // ------------------------------------------------------------------
-    // Target: the override on the cruise speed, the staircase, hold/stop
+    // Target of the next clock: the least of the override on the cruise
+    // speed, the cruise speed and the running staircase; 0 under hold or
+    // stop or without a segment
     // ------------------------------------------------------------------
-    // The model's (v_cruise << 6) * ov_q >> 7, with ov_q the override of the
-    // previous clock and v_cruise the current segment's, computed at the
-    // edge that registers ov_q (from the override input, clipped at 128) and
-    // loads v_cruise (on take): ov_target_q holds it during the clock.  With
-    // ov <= 128: ov = 128 gives the cruise speed; else the sum of
-    // v_cruise << b over the set bits b < 7 (< 127 x 2^32 < 2^39), shifted
-    // left by 6 and right by 7, i.e. halved.  Only the b = 0 term has a bit
-    // 0, so the half is exact term by term: v_cruise >> 1 for b = 0,
-    // v_cruise << (b - 1) for the others; the sum is < 2^38.
-    wire [7:0]    ov_n = (override > OVERRIDE_ONE) ? OVERRIDE_ONE : override;
-    wire [31:0]   cruise_n = take_now ? next_v_cruise : v_cruise_q;
-    wire [37:0]   ov_term0 = ov_n[0] ? {7'd0, cruise_n[31:1]} : 38'd0;
-    wire [37:0]   ov_term1 = ov_n[1] ? {6'd0, cruise_n}       : 38'd0;
-    wire [37:0]   ov_term2 = ov_n[2] ? {5'd0, cruise_n, 1'b0} : 38'd0;
-    wire [37:0]   ov_term3 = ov_n[3] ? {4'd0, cruise_n, 2'd0} : 38'd0;
-    wire [37:0]   ov_term4 = ov_n[4] ? {3'd0, cruise_n, 3'd0} : 38'd0;
-    wire [37:0]   ov_term5 = ov_n[5] ? {2'd0, cruise_n, 4'd0} : 38'd0;
-    wire [37:0]   ov_term6 = ov_n[6] ? {1'd0, cruise_n, 5'd0} : 38'd0;
-    wire [37:0]   ov_half = ((ov_term0 + ov_term1) + (ov_term2 + ov_term3))
-                            + ((ov_term4 + ov_term5) + ov_term6);
-    wire [37:0]   ov_target_n = ov_n[7] ? {cruise_n, 6'd0} : ov_half;
-    wire [37:0]   limited = (ramp_on_n && ramp_under) ? ramp_v_n : ov_target_q;
-    wire [37:0]   target = (!cur_valid_q || hold || stop) ? 38'd0 : limited;
+    wire          ov_under_cruise = (ov_target_q < cruise);
+    wire          ramp_under_ov = (ramp_v_q < ov_target_q);
+    wire          ramp_under_cruise = (ramp_v_q < cruise);
+    wire [37:0]   target_base = ov_under_cruise ? ov_target_q : cruise;
+    wire          ramp_limits = ramp_on_q && (ov_under_cruise ? ramp_under_ov
+                                                              : ramp_under_cruise);
+    wire [37:0]   target_n = (!cur_valid_q || hold || stop) ? 38'd0
+                             : (ramp_limits ? ramp_v_q : target_base);
+
+    // The override's product (v_cruise << 6) x ov_q >> 7 with ov_q <= 128:
+    // ov = 128 gives the cruise speed; else the sum of v_cruise << b over the
+    // set bits b < 7, shifted left by 6 and right by 7 (halved; only the
+    // b = 0 term has a bit 0, so the half is exact term by term).  Stage 1
+    // registers four partial sums (the model's ov_prod), stage 2 their sum
+    // (ov_target).
+    wire [7:0]    ov_n = (feed_override > OVERRIDE_ONE) ? OVERRIDE_ONE : feed_override;
+    wire [37:0]   ov_term0 = ov_q[0] ? {7'd0, v_cruise_q[31:1]} : 38'd0;
+    wire [37:0]   ov_term1 = ov_q[1] ? {6'd0, v_cruise_q}       : 38'd0;
+    wire [37:0]   ov_term2 = ov_q[2] ? {5'd0, v_cruise_q, 1'b0} : 38'd0;
+    wire [37:0]   ov_term3 = ov_q[3] ? {4'd0, v_cruise_q, 2'd0} : 38'd0;
+    wire [37:0]   ov_term4 = ov_q[4] ? {3'd0, v_cruise_q, 3'd0} : 38'd0;
+    wire [37:0]   ov_term5 = ov_q[5] ? {2'd0, v_cruise_q, 4'd0} : 38'd0;
+    wire [37:0]   ov_term6 = ov_q[6] ? {1'd0, v_cruise_q, 5'd0} : 38'd0;
+    wire [37:0]   ov_term7 = ov_q[7] ? cruise : 38'd0;
+    // stage 2: four partial sums by two carry-save levels and one chain
+    wire [37:0]   ov_x = ov_part_a_q ^ ov_part_b_q ^ ov_part_c_q;
+    wire [36:0] ov_m = (ov_part_a_q[36:0] & ov_part_b_q[36:0])
+                       | (ov_part_a_q[36:0] & ov_part_c_q[36:0])
+                         | (ov_part_b_q[36:0] & ov_part_c_q[36:0]);
+    wire [37:0]   ov_y = {ov_m, 1'b0};
+    wire [37:0]   ov_x2 = ov_x ^ ov_y ^ ov_part_d_q;
+    wire [36:0] ov_m2 = (ov_x[36:0] & ov_y[36:0]) | (ov_x[36:0] & ov_part_d_q[36:0])
+                        | (ov_y[36:0] & ov_part_d_q[36:0]);
+    wire [37:0]   ov_sum = ov_x2 + {ov_m2, 1'b0};
 
     // ------------------------------------------------------------------
-    // Speed: one step of accel towards the target, same-direction steps a
-    // tick apart
+    // Speed: one step of accel towards the registered target, same-direction
+    // steps a tick apart
     // ------------------------------------------------------------------
     wire          tick_done = &since_q;
-    wire          step_up = (target > v_q) && (!last_up_q || tick_done);
-    wire          step_down = (target < v_q) && (!last_down_q || tick_done);
-    wire [38:0]   v_plus = {1'b0, v_q} + {5'd0, accel_q};
-    wire [38:0]   v_minus = {1'b0, v_q} - {5'd0, accel_q};
-    wire [37:0]   v_up = (v_plus > {1'b0, target}) ? target : v_plus[37:0];
-    wire [37:0]   v_down = (v_minus[38] || v_minus[37:0] < target) ? target : v_minus[37:0];
+    wire          step_up = (target_q > v_q) && (!last_up_q || tick_done);
+    wire          step_down = (target_q < v_q) && (!last_down_q || tick_done);
+    wire [37:0]   v_plus = v_q + {4'd0, accel_q};
+    wire [37:0]   v_minus = v_q - {4'd0, accel_q};
+    // v + accel > target: v + accel + ~target >= 0 (40 bits signed; the
+    // same as v + accel - target - 1 >= 0), one carry-save level, one chain
+    wire [39:0]   up_a = {2'd0, v_q};
+    wire [39:0]   up_b = {6'd0, accel_q};
+    wire [39:0]   up_c = ~{2'd0, target_q};
+    wire [39:0]   up_x = up_a ^ up_b ^ up_c;
+    wire [38:0] up_m = (up_a[38:0] & up_b[38:0]) | (up_a[38:0] & up_c[38:0])
+                       | (up_b[38:0] & up_c[38:0]);
+    wire [VW+1:0] up_diff = up_x + {up_m, 1'b0};
+    wire          up_clamp = !up_diff[VW+1];
+    // v - accel < target: target + accel + ~v >= 0
+    wire [39:0]   dn_a = {2'd0, target_q};
+    wire [39:0]   dn_b = {6'd0, accel_q};
+    wire [39:0]   dn_c = ~{2'd0, v_q};
+    wire [39:0]   dn_x = dn_a ^ dn_b ^ dn_c;
+    wire [38:0] dn_m = (dn_a[38:0] & dn_b[38:0]) | (dn_a[38:0] & dn_c[38:0])
+                       | (dn_b[38:0] & dn_c[38:0]);
+    wire [VW+1:0] dn_diff = dn_x + {dn_m, 1'b0};
+    wire          down_clamp = !dn_diff[VW+1];
+    wire [37:0]   v_up = up_clamp ? target_q : v_plus;
+    wire [37:0]   v_down = down_clamp ? target_q : v_minus;
     wire [37:0]   v_n = step_up ? v_up : (step_down ? v_down : v_q);
 
     wire          cur_valid_n = take_now || (cur_valid_q && !at_rest_stop && !segment_ends);
+    wire          same_segment = cur_valid_q && !at_rest_stop && !segment_ends;
 
     always @(posedge clk) begin
-        if (rst || abort) begin
+        if (rst || abort_now) begin
             cur_valid_q <= 1'b0;
+            v_cruise_q  <= 32'd0;
             accel_q     <= 34'd0;
             v_q         <= 38'd0;
-            credit_q    <= 41'd0;
+            target_q    <= 38'd0;
+            credit_q    <= 42'd0;
+            full_q      <= 1'b0;
             s_q         <= {DW{1'b0}};
             since_q     <= {DIV{1'b1}};
             last_up_q   <= 1'b0;
             last_down_q <= 1'b0;
+            ov_part_a_q <= 38'd0;
+            ov_part_b_q <= 38'd0;
+            ov_part_c_q <= 38'd0;
+            ov_part_d_q <= 38'd0;
+            ov_target_q <= 38'd0;
+            past_exit_q <= 1'b0;
+            past_stop_q <= 1'b0;
             ramp_on_q   <= 1'b0;
             ramp_dry_q  <= 1'b0;
             ramp_v_q    <= 38'd0;
@@ -366,6 +430,7 @@ module halfpoint_profile #(
         end else begin
             // speed and its cadence; no segment after this edge: the speed is 0
             v_q <= cur_valid_n ? v_n : 38'd0;
+            target_q <= target_n;
             if (step_up || step_down) begin
                 last_up_q   <= step_up;
                 last_down_q <= step_down;
@@ -373,9 +438,15 @@ module halfpoint_profile #(
             end else if (!tick_done) begin
                 since_q <= since_q + SINCE_ONE;
             end
+            // the override's product
+            ov_part_a_q <= ov_term0 + ov_term1;
+            ov_part_b_q <= ov_term2 + ov_term3;
+            ov_part_c_q <= ov_term4 + ov_term5;
+            ov_part_d_q <= ov_term6 | ov_term7;
+            ov_target_q <= ov_sum;
             // credit and distance
             if (at_rest_stop) begin
-                credit_q <= 41'd0;
+                credit_q <= 42'd0;
                 s_q      <= {DW{1'b0}};
             end else if (cur_valid_q) begin
                 credit_q <= credit_new;
@@ -385,8 +456,12 @@ module halfpoint_profile #(
                     s_q <= s_q + {{(DW-18){1'b0}}, cost};
                 end
             end
+            // compares of this clock's registers, for the next clock
+            full_q      <= same_segment && at_cap;
+            past_exit_q <= same_segment && earned_past_exit;
+            past_stop_q <= same_segment && earned_past_stop;
             // the exit staircase; it ends with its segment
-            if (cur_valid_q && ramp_on_n && !segment_ends && !at_rest_stop) begin
+            if (same_segment && ramp_on_n) begin
                 ramp_on_q   <= 1'b1;
                 ramp_dry_q  <= ramp_dry_n;
                 ramp_left_q <= ramp_left_n;
@@ -398,37 +473,46 @@ module halfpoint_profile #(
             ramp_v_q <= cur_valid_q ? ramp_v_n : 38'd0;
             // the segment
             cur_valid_q <= cur_valid_n;
-            if (take_now) accel_q <= next_accel;
+            if (take_now) begin
+                accel_q    <= next_accel;
+                v_cruise_q <= next_v_cruise;
+            end
         end
     end
 
-    // the current profile's fields: loaded on take, meaningless without a segment
+    // the current profile's fields and what is derived from them: loaded on
+    // take, meaningless without a segment
+    wire [37:0]   next_exit_speed = (next_v_exit != 32'd0) ? {next_v_exit, 6'd0}
+                                                           : {4'd0, next_accel};
+    wire [RW-1:0] next_accel_wide = {{(RW-34){1'b0}}, next_accel};
+    wire [RW-1:0] next_exit_wide = {{(RW-38){1'b0}}, next_exit_speed};
+    wire [RW-1:0] next_cruise_wide = {{(RW-38){1'b0}}, next_v_cruise, 6'd0};
     always @(posedge clk) begin
-        if (take_now && !rst && !abort) begin
-            v_cruise_q  <= next_v_cruise;
-            line_cost_q <= next_line_cost;
-            d_exit_q    <= next_d_exit;
-            d_stop_q    <= next_d_stop;
-            exit_nonzero_q <= (next_v_exit != 32'd0);
-            exit_speed_q   <= (next_v_exit != 32'd0) ? {next_v_exit, 6'd0} : {4'd0, next_accel};
+        if (take_now && !rst && !abort_now) begin
+            line_cost_q       <= next_line_cost;
+            d_exit_q          <= next_d_exit;
+            d_stop_q          <= next_d_stop;
+            exit_nonzero_q    <= (next_v_exit != 32'd0);
+            exit_speed_q      <= next_exit_speed;
+            exit_plus_accel_q <= {1'b0, next_exit_speed} + {5'd0, next_accel};
             cap_q <= {(next_line_cost != 18'd0) ? next_line_cost : COST_DIAGONAL, 23'd0};
+            cruise_level_q    <= (next_cruise_wide << DIV) - next_cruise_wide;
+            accel_level_q     <= (next_accel_wide << DIV) - (next_accel_wide << 2);
+            exit_level_q      <= (next_exit_wide << DIV) - (next_exit_wide << 2);
         end
     end
 
-    // dry survives abort
+    // dry survives abort; the override is registered on every edge
     always @(posedge clk) begin
         if (rst) begin
             dry_q <= 1'b0;
-        end else if (dry_now && !abort) begin
-            dry_q <= 1'b1;
+            ov_q  <= OVERRIDE_ONE;
+        end else begin
+            if (dry_now && !abort_now) begin
+                dry_q <= 1'b1;
+            end
+            ov_q <= ov_n;
         end
-    end
-
-    // the override target of the next clock, on every edge (the model's ov_q
-    // is registered on every edge, abort included; without a segment the
-    // value is not used, and the edge that takes one computes it afresh)
-    always @(posedge clk) begin
-        ov_target_q <= ov_target_n;
     end
 
     assign speed = v_q;

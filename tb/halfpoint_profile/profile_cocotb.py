@@ -39,7 +39,7 @@ def bind(dut) -> None:
 
 def ramp_left_width() -> int:
     """Width of the RTL's ramp_left register (see rtl/halfpoint_profile.v)."""
-    return max(W + 43, DIV + 40)
+    return max(W + 43, DIV + 41)
 
 
 # --- stimulus: programs and events ------------------------------------------------------------
@@ -144,7 +144,7 @@ def raw_program(rng) -> Program:
     """Profiles straight from ProfileParams, not from the planner: d_exit 0 or past
     the end, v_exit = v_cruise, accel 1 and 2^34 - 1, line costs up to 2^18 - 1.
     Two corners on purpose: a segment of 2^18 - 1 line costs hands a large credit
-    to one of tiny line costs (negative gain on its first clock, which starts the
+    to one of tiny line costs (its credit far above the new cap: no gain until it is spent
     staircase), and a segment entered at full speed with a cruise speed far below
     it (the staircase's remainder falls by about v every clock)."""
     dist_top = (1 << pf.distance_bits(W)) - 1
@@ -311,7 +311,7 @@ class Driver:
     def drive(self, inp: ProfileInputs, rst: int = 0) -> None:
         d, rng = self.dut, self.rng
         d.rst.value = rst
-        d.abort.value = inp.abort
+        d.abort_now.value = inp.abort
         d.head_valid.value = inp.head_valid
         d.head_class.value = inp.head_class
         d.head_last.value = inp.head_last
@@ -330,7 +330,7 @@ class Driver:
         d.next_d_stop.value = p.d_stop
         d.hold.value = inp.hold
         d.stop.value = inp.stop
-        d.override.value = inp.override
+        d.feed_override.value = inp.override
 
 
 VIEW = ("pop", "take", "stopped", "holding")
@@ -352,16 +352,24 @@ class Monitor:
     def registers(self) -> dict:
         d = self.dut
         got = {k: int(getattr(d, k + "_q").value) for k in (
-            "cur_valid", "accel", "v", "credit", "s", "since", "last_up", "last_down",
-            "dry", "ramp_on", "ramp_dry", "ramp_v")}
+            "cur_valid", "accel", "v_cruise", "v", "target", "credit", "full", "s", "since",
+            "last_up", "last_down", "dry", "ov", "ov_target", "past_exit", "past_stop",
+            "ramp_on", "ramp_dry", "ramp_v")}
+        # the model's ov_prod is held as four partial sums
+        got["ov_prod"] = sum(int(getattr(d, f"ov_part_{k}_q").value) for k in "abcd")
         rw = ramp_left_width()
-        raw = int(d.ramp_left_q.value)
-        got["ramp_left"] = raw - (1 << rw) if raw >> (rw - 1) else raw
+        got["ramp_left"] = signed(int(d.ramp_left_q.value), rw)
         if got["cur_valid"]:
-            for k in ("v_cruise", "exit_speed", "line_cost", "d_exit", "d_stop", "ov_target",
-                      "cap"):
+            for k in ("exit_speed", "exit_plus_accel", "line_cost", "d_exit", "d_stop",
+                      "cap", "cruise_level"):
                 got[k] = int(getattr(d, k + "_q").value)
+            for k in ("accel_level", "exit_level"):
+                got[k] = signed(int(getattr(d, k + "_q").value), rw)
         return got
+
+
+def signed(raw: int, width: int) -> int:
+    return raw - (1 << width) if raw >> (width - 1) else raw
 
 
 def model_outputs(model: ProfileStage) -> dict:
@@ -374,21 +382,28 @@ def model_view(view) -> dict:
 
 
 def model_registers(model: ProfileStage) -> dict:
-    want = {"cur_valid": int(model.cur is not None), "accel": model.accel, "v": model.v,
-            "credit": model.credit, "s": model.s, "since": model.since - 1,
+    want = {"cur_valid": int(model.cur is not None), "accel": model.accel,
+            "v_cruise": model.v_cruise, "v": model.v, "target": model.target,
+            "credit": model.credit, "full": int(model.full), "s": model.s,
+            "since": model.since - 1,
             "last_up": int(model.last_dir == 1), "last_down": int(model.last_dir == -1),
-            "dry": model.dry, "ramp_on": int(model.ramp_on),
+            "dry": model.dry, "ov": model.ov_q, "ov_prod": model.ov_prod,
+            "ov_target": model.ov_target, "past_exit": int(model.past_exit),
+            "past_stop": int(model.past_stop), "ramp_on": int(model.ramp_on),
             "ramp_dry": int(model.ramp_dry), "ramp_v": model.ramp_v,
             "ramp_left": model.ramp_left}
     if model.cur is not None:
         c = model.cur
-        # the RTL keeps the model's ov_q as its product with the cruise speed, and
-        # v_exit as the staircase's exit speed (the creep speed for 0)
+        # the RTL keeps v_exit as the staircase's exit speed (the creep speed for 0)
+        # and the products of the levels, derived when the profile is taken
         exit_speed = c.v_exit << pf.SPEED_SHIFT if c.v_exit else c.accel
-        want.update(v_cruise=c.v_cruise, exit_speed=exit_speed, line_cost=c.line_cost,
-                    d_exit=c.d_exit, d_stop=c.d_stop,
-                    ov_target=((c.v_cruise << pf.SPEED_SHIFT) * model.ov_q) >> 7,
-                    cap=(c.largest_cost() << pf.COST_SHIFT) << 1)
+        tick = 1 << DIV
+        want.update(exit_speed=exit_speed, exit_plus_accel=exit_speed + c.accel,
+                    line_cost=c.line_cost, d_exit=c.d_exit, d_stop=c.d_stop,
+                    cap=(c.largest_cost() << pf.COST_SHIFT) << 1,
+                    cruise_level=(c.v_cruise << pf.SPEED_SHIFT) * (tick - 1),
+                    accel_level=c.accel * (tick - pf.RAMP_LAG),
+                    exit_level=exit_speed * (tick - pf.RAMP_LAG))
     return want
 
 
@@ -398,7 +413,7 @@ class Checker:
     def __init__(self):
         self.clocks = 0
         self.seen = {"pop": 0, "take": 0, "stopped": 0, "holding": 0, "ramp_step": 0,
-                     "dry_start": 0, "left_negative": 0, "capped_start": 0,
+                     "dry_start": 0, "left_negative": 0, "capped": 0,
                      "exact_cover": 0, "capped_pop_step": 0}
         self.v_before = 0
 
@@ -421,7 +436,7 @@ class Checker:
             self.seen[k] += want[k]
         self.seen["ramp_step"] += int(w.ramp_step)
         self.seen["dry_start"] += int(w.ramp_dry)
-        self.seen["capped_start"] += int(w.gain < 0)
+        self.seen["capped"] += int(w.gain < self.v_before)
         # a pop with the credit capped, on a clock the staircase steps
         self.seen["capped_pop_step"] += int(w.pop and w.ramp_step and w.gain < self.v_before)
 
@@ -512,7 +527,14 @@ async def planned_chains(dut):
     bench = Bench(dut, SEED)
     await bench.start()
     k = 0
-    while bench.checker.clocks < CLOCKS:
+    wanted = ("pop", "take", "stopped", "holding", "ramp_step", "dry_start")
+    ends = ("done", "stopped", "aborted")
+
+    def covered():
+        return (all(bench.checker.seen[k] for k in wanted)
+                and all(bench.stim.ends[k] for k in ends))
+    # at least CLOCKS clocks, and on until every case was seen (at most 4 x CLOCKS)
+    while bench.checker.clocks < CLOCKS or (not covered() and bench.checker.clocks < 4 * CLOCKS):
         program = planned_program(bench.rng)
         events = random_events(bench.rng, program, calm=k % 4 == 0)
         await bench.run_program(program, events)
@@ -521,9 +543,8 @@ async def planned_chains(dut):
         k += 1
     bench.report("planned chains")
     seen = bench.checker.seen
-    assert all(seen[k] for k in ("pop", "take", "stopped", "holding", "ramp_step",
-                                 "dry_start"))
-    assert all(bench.stim.ends[k] for k in ("done", "stopped", "aborted"))
+    assert all(seen[k] for k in wanted)
+    assert all(bench.stim.ends[k] for k in ends)
 
 
 @cocotb.test()
@@ -545,4 +566,4 @@ async def raw_profiles(dut):
     bench.report("raw profiles")
     seen = bench.checker.seen
     assert all(seen[k] for k in ("pop", "take", "ramp_step", "left_negative",
-                                 "capped_start", "exact_cover", "capped_pop_step"))
+                                 "capped", "exact_cover", "capped_pop_step"))

@@ -3,7 +3,7 @@
 
 import pytest
 
-from halfpoint.sim.env import BUILD, RTL, rtl_sources, run_cocotb
+from halfpoint.sim.env import BUILD, rtl_sources, run_cocotb
 
 CASES = [(32, 3), (16, 5)]
 
@@ -13,8 +13,7 @@ def test_profile_rtl_matches_model(width, div):
     name = f"profile_w{width}_div{div}"
     run_cocotb(
         toplevel="halfpoint_profile",
-        # the waivers of the port names abort and override (see the .vlt)
-        sources=[RTL / "halfpoint_profile.vlt", *rtl_sources("halfpoint_profile")],
+        sources=rtl_sources("halfpoint_profile"),
         test_module="profile_cocotb",
         test_dir=BUILD / "sim" / name / "run",
         parameters={"W": width, "DIV": div},

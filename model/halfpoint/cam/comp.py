@@ -96,7 +96,9 @@ class Piece:
 
 
 def _close(p, q, tol=TOL) -> bool:
-    return abs(p[0] - q[0]) <= tol and abs(p[1] - q[1]) <= tol and math.dist(p, q) <= tol
+    """Are the XY parts of p and q within tol of each other?"""
+    dx, dy = p[0] - q[0], p[1] - q[1]
+    return -tol <= dx <= tol and -tol <= dy <= tol and math.hypot(dx, dy) <= tol
 
 
 def _offset(m: Move, side: str, r: float):
@@ -175,10 +177,21 @@ class _Stretch:
                 gap: float = 0.0):
         """Join prev's end to el's start about the programmed corner point;
         returns (pieces to insert, el possibly trimmed at its start, outside?)."""
-        a, b = prev.el.end, el.start
-        if _close(a, b, 1e-9):
-            return [], el, True
-        ta, tb = prev.el.tangent(1.0), el.tangent(0.0)
+        pel = prev.el
+        if type(pel) is Line and type(el) is Line:
+            a, b = pel.p1, el.p0
+            if _close(a, b, 1e-9):
+                return [], el, True
+            # the two unit directions, without the generic tangent calls
+            ta = (pel.p1[0] - pel.p0[0], pel.p1[1] - pel.p0[1])
+            tb = (el.p1[0] - el.p0[0], el.p1[1] - el.p0[1])
+            na, nb = math.hypot(*ta) or 1.0, math.hypot(*tb) or 1.0
+            ta, tb = (ta[0] / na, ta[1] / na), (tb[0] / nb, tb[1] / nb)
+        else:
+            a, b = pel.end, el.start
+            if _close(a, b, 1e-9):
+                return [], el, True
+            ta, tb = pel.tangent(1.0), el.tangent(0.0)
         cross = ta[0] * tb[1] - ta[1] * tb[0]
         dot = ta[0] * tb[0] + ta[1] * tb[1]
         outside = (cross < 0) if self.left else (cross > 0)
@@ -248,17 +261,16 @@ class _Stretch:
             end = (p0[0] + r * nx, p0[1] + r * ny)
             self.pieces.append(Piece(Line(c, end, e.lineno), e.lineno, ENTRY, e.kind,
                                      e.feed, e.start[2], e.end[2]))
-        xy = [m for m in self.contour
-              if m.kind == "arc" or not _close(m.start[:2], m.end[:2], 1e-12)]
+        moving = [m.kind == "arc" or not _close(m.start, m.end, 1e-12) for m in self.contour]
+        xy = [m for m, f in zip(self.contour, moving) if f]
         start_xy = e.start[:2] if e.kind == "arc" else p0
-        self.closed = len(xy) > 0 and _close(xy[-1].end[:2], start_xy, 1e-6)
-        self.prog_of = {m.lineno: _programmed_element(m) for m in self.contour
-                        if m.kind == "arc" or not _close(m.start[:2], m.end[:2], 1e-12)}
+        self.closed = len(xy) > 0 and _close(xy[-1].end, start_xy, 1e-6)
+        self.prog_of = {m.lineno: _programmed_element(m) for m in xy}
         first_piece = None
         prog_end = self.entry.end[:2]
         pending_gap = False         # a block without offset since the last piece
         for idx, m in enumerate(self.contour):
-            if m.kind != "arc" and _close(m.start[:2], m.end[:2], 1e-12):
+            if not moving[idx]:
                 last = self.pieces[-1]
                 if last.events is None:
                     last.events = []

@@ -37,7 +37,8 @@ class Line:
         return math.hypot(self.p1[0] - self.p0[0], self.p1[1] - self.p0[1])
 
     def point(self, t: float):
-        return (self.p0[0] + t * (self.p1[0] - self.p0[0]), self.p0[1] + t * (self.p1[1] - self.p0[1]))
+        return (self.p0[0] + t * (self.p1[0] - self.p0[0]),
+                self.p0[1] + t * (self.p1[1] - self.p0[1]))
 
     def tangent(self, t: float):
         n = self.length() or 1.0
@@ -177,7 +178,8 @@ class Arc:
     def distance(self, p) -> float:
         d = math.hypot(p[0] - self.c[0], p[1] - self.c[1])
         if d > 0:
-            q = (self.c[0] + (p[0] - self.c[0]) * self.r / d, self.c[1] + (p[1] - self.c[1]) * self.r / d)
+            q = (self.c[0] + (p[0] - self.c[0]) * self.r / d,
+                 self.c[1] + (p[1] - self.c[1]) * self.r / d)
             if self.param(q) is not None:
                 return abs(d - self.r)
         s, e = self.start, self.end

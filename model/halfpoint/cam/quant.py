@@ -216,21 +216,6 @@ def _end_point(r2: int, ex: float, ey: float):
     return best[1]
 
 
-def _line_start_off(cur, sx: float, sy: float, ex: float, ey: float, bound: float) -> bool:
-    """Would a line from the lattice point cur to the programmed end (ex, ey)
-    stray more than ``bound`` from the programmed line from (sx, sy)?  The
-    line unit's points lie within 0.5 BLU along the minor axis of the straight
-    line between its lattice ends, so near cur they are off by cur's offset
-    plus that (0.5 cos of the angle to the major axis)."""
-    ux, uy = ex - sx, ey - sy
-    n = math.hypot(ux, uy)
-    if n == 0.0:
-        return math.hypot(cur[0] - sx, cur[1] - sy) > bound
-    off = abs((cur[0] - sx) * uy - (cur[1] - sy) * ux) / n
-    along = ((cur[0] - sx) * ux + (cur[1] - sy) * uy) / n
-    return off + 0.5 * max(abs(ux), abs(uy)) / n > bound or along < -bound
-
-
 def _on_line(sx: float, sy: float, ex: float, ey: float, px: float, py: float):
     """Lattice point near the point (px, py) of the line from (sx, sy) to
     (ex, ey): slid along the line to the nearest whole major coordinate, then
@@ -363,22 +348,38 @@ def quantise(moves: list[Move], blu=(DEFAULT_BLU,) * 3, width: int = 32,
             # within what the sagitta leaves of the bound
             bound = LINE_BOUND - sag / bx
         ex, ey, ez = m.end
-        tx, ty, tz = round(ex / bx), round(ey / by), round(ez / bz)
+        ex, ey = ex / bx, ey / by
+        tx, ty, tz = round(ex), round(ey), round(ez / bz)
         sx, sy = m.start[0] / bx, m.start[1] / by
-        if m.start[:2] != m.end[:2] and \
-                _line_start_off((tx, ty), ex / bx, ey / by, sx, sy, bound):
-            # the nearest lattice point would let the line stray too far
-            # near its end: the one on the line's own lattice row instead
-            tx, ty = _on_line(sx, sy, ex / bx, ey / by, ex / bx, ey / by)
+        # A line's points lie within 0.5 BLU along the minor axis of the
+        # straight line between its lattice ends: near an end they are off the
+        # programmed line by that end's offset plus 0.5 cos(angle to the major
+        # axis).  A lattice end within bound - 0.5 of the programmed one keeps
+        # that within bound; beyond, the exact test below.
+        near = (bound - 0.5) * (bound - 0.5)
+        fx, fy = tx - ex, ty - ey
+        gx, gy = cur[0] - sx, cur[1] - sy
+        far_end = fx * fx + fy * fy > near
+        far_start = gx * gx + gy * gy > near
+        if (far_end or far_start) and (sx != ex or sy != ey):
+            ux, uy = ex - sx, ey - sy
+            n = math.sqrt(ux * ux + uy * uy)
+            lim = bound - 0.5 * max(abs(ux), abs(uy)) / n
+            if far_end and (abs(fx * uy - fy * ux) / n > lim or
+                            (fx * ux + fy * uy) / n > bound):
+                # the nearest lattice point would let the line stray too far
+                # near its end: the one on the line's own lattice row instead
+                tx, ty = _on_line(sx, sy, ex, ey, ex, ey)
+            if far_start and (abs(gx * uy - gy * ux) / n > lim or
+                              (gx * ux + gy * uy) / n < -bound):
+                # the core is too far from the line's start (an arc stopped
+                # off it): a correcting step onto the line's own lattice row
+                cur = _line_cmd(q, m, line_head, cur, _on_line(sx, sy, ex, ey, sx, sy), True)
+        elif far_start and math.hypot(gx, gy) > bound:
+            cur = _line_cmd(q, m, line_head, cur, (round(sx), round(sy)), True)
         if not (lo <= tx <= hi and lo <= ty <= hi and lo <= tz <= hi):
             raise GcodeError(m.lineno, f"end point outside the core's {width}-bit range "
                                        "at this BLU")
-        if (cur[0] - sx) ** 2 + (cur[1] - sy) ** 2 > 0.25 * bound * bound and \
-                _line_start_off(cur, sx, sy, ex / bx, ey / by, bound):
-            # the core is too far from the line's start (an arc stopped off
-            # it): a correcting step onto the line's own lattice row first
-            cur = _line_cmd(q, m, line_head, cur, _on_line(sx, sy, ex / bx, ey / by, sx, sy),
-                            True)
         dx, dy, dz = tx - cur[0], ty - cur[1], tz - cur[2]
         if not (dx or dy or dz):
             continue

@@ -24,6 +24,8 @@ import math
 
 import numpy as np
 
+from .geom import Line
+
 NCOL = 10
 K, X0, Y0, X1, Y1, CX, CY, R, A0, SW = range(NCOL)
 TAU = 2 * math.pi
@@ -31,13 +33,25 @@ _BIG_CELLS = 64
 
 
 def pack(elements) -> np.ndarray:
-    """Array of geom.Line / geom.Arc objects (anything with the attributes)."""
-    if not elements:
+    """Array of geom.Line / geom.Arc objects (lines in one pass, arcs apart)."""
+    n = len(elements)
+    if not n:
         return np.zeros((0, NCOL))
-    rows = [(1.0, *e.start, *e.end, e.c[0], e.c[1], e.r, e.a0, e.sweep) if hasattr(e, "c")
-            else (0.0, e.p0[0], e.p0[1], e.p1[0], e.p1[1], 0.0, 0.0, 0.0, 0.0, 0.0)
-            for e in elements]
-    return np.array(rows, dtype=float)
+    out = np.zeros((n, NCOL))
+    arcs = [k for k, e in enumerate(elements) if type(e) is not Line]
+    if len(arcs) < n:
+        lines = [e for e in elements if type(e) is Line] if arcs else elements
+        rows = np.array([(*e.p0, *e.p1) for e in lines], dtype=float)
+        if arcs:
+            mask = np.ones(n, dtype=bool)
+            mask[arcs] = False
+            out[mask, 1:5] = rows
+        else:
+            out[:, 1:5] = rows
+    if arcs:
+        out[arcs] = np.array([(1.0, *e.start, *e.end, e.c[0], e.c[1], e.r, e.a0, e.sweep)
+                              for e in (elements[k] for k in arcs)], dtype=float)
+    return out
 
 
 def boxes(el: np.ndarray) -> np.ndarray:

@@ -159,6 +159,13 @@ CLASS_AXIS, CLASS_DIAG, CLASS_LINE = 0, 1, 2
 TICK_MIN_S = 80e-6                  # choose_div: the shortest tick (82 us at 50 MHz)
 CLOCK_RANGE_HZ = (10_000_000, 200_000_000)
 MAX_ERROR = 0.01                    # the issue's 1 %
+# the speed follows a step of the exit staircase RAMP_LAG - 1 clocks late (the
+# staircase register, the target register, the speed register); each level adds
+# RAMP_LAG times its step so that at full speed it still lasts a tick
+RAMP_LAG = 4
+# the staircase starts on the clock after the first clock whose earned distance
+# reached d_exit: at most TRIGGER_CLOCKS clocks of gain beyond d_exit
+TRIGGER_CLOCKS = 2
 
 
 def distance_bits(width: int) -> int:
@@ -258,11 +265,15 @@ class ProfileView:
 class ProfileStage:
     """Clock-by-clock model of the profile stage (``div``: tick = 2^div clocks).
 
-    Registers: ``v`` (speed), ``credit``, ``s`` (popped distance in the segment),
-    ``since`` / ``last_dir`` (the step cadence), ``cur`` (the current profile, with
-    ``accel`` kept after it ends), ``ov_q`` (override), ``dry`` (sticky) and the exit
-    staircase: ``ramp_on``, ``ramp_dry``, ``ramp_v`` (its speed), ``ramp_left``
-    (distance, BLU x 2^38, before its next step; DIV + 39 bits signed)."""
+    Registers: ``v`` (speed), ``target`` (the speed's target, registered a clock
+    ahead), ``credit``, ``full`` (the credit was at its cap), ``s`` (popped distance
+    in the segment), ``since`` / ``last_dir`` (the step cadence), ``cur`` (the
+    current profile, with ``accel`` and ``v_cruise`` kept after it ends), ``ov_q``
+    (override), ``ov_prod`` / ``ov_target`` (its product with the cruise speed, two
+    clocks of pipeline), ``dry`` (sticky), ``past_exit`` / ``past_stop`` (the earned
+    distance compared with d_exit / d_stop a clock earlier) and the exit staircase:
+    ``ramp_on``, ``ramp_dry``, ``ramp_v`` (its speed), ``ramp_left`` (distance, BLU x
+    2^38, before its next step; max(W + 43, DIV + 41) bits signed)."""
 
     def __init__(self, div: int, width: int = 32):
         if not 1 <= div <= 24:
@@ -275,13 +286,20 @@ class ProfileStage:
     def reset(self) -> None:
         self.cur: ProfileParams | None = None
         self.v = 0
+        self.target = 0
         self.credit = 0
+        self.full = False
         self.s = 0
         self.accel = 0              # speed step of the last current segment
+        self.v_cruise = 0           # cruise speed of the last current segment (field)
         self.since = self.tick      # clocks since the last speed step, saturating
         self.last_dir = 0           # direction of the last speed step (+1, -1, 0)
         self.dry = 0
         self.ov_q = OVERRIDE_ONE    # the override input, registered
+        self.ov_prod = 0            # (v_cruise << 6) * ov_q >> 7 of the clock before
+        self.ov_target = 0          # ov_prod of the clock before
+        self.past_exit = False
+        self.past_stop = False
         self.ramp_on = False
         self.ramp_dry = False
         self.ramp_v = 0
@@ -291,45 +309,47 @@ class ProfileStage:
         return ProfileOutputs(v=self.v, dry=self.dry,
                               busy=int(self.cur is not None or self.v != 0))
 
-    def _ramp(self, i: ProfileInputs, w: ProfileView, earned: int) -> None:
-        """The exit staircase: a speed limit that starts at the segment's peak when the
-        earned distance reaches d_exit (or d_stop with the queue dry) and steps down
-        by ``accel`` each time the earned distance covers one tick (2^div clocks) at
-        its current speed, down to the exit speed (the creep speed when dry).  At full
-        speed its levels last exactly a tick, its first step comes a tick after its
-        start (so the cadence never holds that step back: no phase to predict), and
-        ``exit_ramp_distance`` is its length; slower (override, hold) it keeps the same
-        distances, so the stage rejoins it instead of finishing early and creeping."""
-        cur, accel = self.cur, self.accel
+    def _ramp(self, i: ProfileInputs, w: ProfileView) -> None:
+        """The exit staircase: a speed limit that starts at the segment's peak on the
+        clock after the earned distance reached d_exit (or d_stop with the queue
+        dry: ``past_exit`` / ``past_stop``) and steps down by ``accel`` on each clock
+        that starts with its remainder ``ramp_left`` negative, down to the exit speed
+        (the creep speed when dry).  Each level is a distance: 2^div clocks of its
+        speed, plus RAMP_LAG times the step that started it (the speed follows the
+        staircase RAMP_LAG - 1 clocks late and spends them at the level above); the
+        first is 2^div - 1 clocks of its speed.  At full speed the levels therefore
+        last exactly a tick, the first step comes a tick after the start, and
+        ``exit_ramp_distance`` is its length; slower (override, hold) it keeps the
+        same distances, so the stage rejoins it instead of finishing early and
+        creeping."""
+        cur, accel, div = self.cur, self.accel, self.div
         exit_speed = cur.v_exit << SPEED_SHIFT if cur.v_exit else accel
         dry_cond = bool(not i.next_valid and cur.v_exit)
         on, dry_mode, ramp_v = self.ramp_on, self.ramp_dry, self.ramp_v
         step = False
         start = False
         if not on:
-            if earned >= cur.d_exit:
+            if self.past_exit:
                 on, start, ramp_v = True, True, cur.v_cruise << SPEED_SHIFT
-            elif earned >= cur.d_stop and dry_cond:
+            elif self.past_stop and dry_cond:
                 on, start, dry_mode = True, True, True
                 ramp_v = cur.v_cruise << SPEED_SHIFT
         elif dry_mode and not dry_cond:
             # the next profile came: back to the plan
-            if earned < cur.d_exit:
+            if not self.past_exit:
                 on, dry_mode = False, False
             else:
                 dry_mode, ramp_v = False, max(ramp_v, exit_speed)
         else:
-            step = self.ramp_left <= w.gain     # this clock ends the level
-        floor = accel if dry_mode else exit_speed
+            step = self.ramp_left < 0       # the level ran out on an earlier clock
+        left = self.ramp_left - w.gain
         if step:
+            floor = accel if dry_mode else exit_speed
+            above = ramp_v
             ramp_v = max(ramp_v - accel, floor)
-        # distance left in the level: a level is 2^div clocks of its speed, the first
-        # one counted from the clock that starts it; a step carries what the clock
-        # ending the level ran beyond it
-        left = (ramp_v << self.div) if start else self.ramp_left
-        left -= w.gain
-        if step:
-            left += ramp_v << self.div
+            left += (ramp_v << div) + RAMP_LAG * (above - ramp_v)
+        elif start:
+            left = (ramp_v << div) - ramp_v - w.gain
         w.ramp_on, w.ramp_dry, w.ramp_step, w.ramp_v = on, dry_mode, step, ramp_v
         w.ramp_left = left if on else 0
         w.dry_now = bool(on and dry_mode)
@@ -337,8 +357,8 @@ class ProfileStage:
     def view(self, i: ProfileInputs) -> ProfileView:
         w = ProfileView()
         cur = self.cur
+        w.target = self.target
         if cur is None:
-            w.target = 0
             w.take = bool(i.next_valid and not i.stop)
             w.holding = bool(i.hold and self.v == 0)
             w.stopped = bool(i.stop and self.v == 0)
@@ -350,25 +370,30 @@ class ProfileStage:
         w.stopped = at_rest_stop
         w.holding = bool(i.hold and self.v == 0 and not can_pop)
         w.take = bool(w.pop and i.head_last and i.next_valid)
-        # credit: gains the speed of this clock, capped; the earned distance grows by gain
+        # credit: gains the speed of this clock unless it was at its cap a clock ago
         spent = (w.cost << COST_SHIFT) if w.pop else 0
-        w.credit = min(self.credit + self.v - spent, (cur.largest_cost() << COST_SHIFT) << 1)
-        w.gain = w.credit - (self.credit - spent)
-        # the override: (v_cruise << 6) * ov >> 7, ov <= 128: a shift-add of 8 terms
-        target = ((cur.v_cruise << SPEED_SHIFT) * self.ov_q) >> 7
-        earned = self.s + (self.credit >> COST_SHIFT)
-        self._ramp(i, w, earned)
-        if w.ramp_on:
-            target = min(target, w.ramp_v)
-        if i.hold or i.stop:
-            target = 0
-        w.target = target
+        w.gain = 0 if self.full else self.v
+        w.credit = self.credit - spent + w.gain
+        self._ramp(i, w)
         return w
+
+    def _next_target(self, i: ProfileInputs) -> int:
+        """The target of the next clock, from this clock's registers: 0 under hold or
+        stop or with no segment, else the least of the override on the cruise speed,
+        the cruise speed and (while it runs) the exit staircase."""
+        cur = self.cur
+        if cur is None or i.hold or i.stop:
+            return 0
+        target = min(self.ov_target, cur.v_cruise << SPEED_SHIFT)
+        if self.ramp_on:
+            target = min(target, self.ramp_v)
+        return target
 
     def clock(self, i: ProfileInputs) -> ProfileView:
         """One rising edge; returns the view of the clock that ended.  ``abort``: the
-        edge clears the segment, speed, credit, staircase and cadence (not ``dry``;
-        the override is registered as on any edge) and pops nothing."""
+        edge clears the segment, speed, target, credit, staircase, cadence and the
+        override's product (not ``dry``; the override is registered as on any edge)
+        and pops nothing."""
         if i.abort:
             dry = self.dry
             self.reset()
@@ -376,8 +401,9 @@ class ProfileStage:
             self.ov_q = min(i.override, OVERRIDE_ONE)
             return ProfileView()
         w = self.view(i)
-        # speed: one step of accel towards the target, same-direction steps a tick apart
-        v, t = self.v, w.target
+        # speed: one step of accel towards the registered target, same-direction
+        # steps a tick apart
+        v, t = self.v, self.target
         direction = 0
         if t > v and (self.last_dir != 1 or self.since >= self.tick):
             direction, v = 1, min(v + self.accel, t)
@@ -387,6 +413,17 @@ class ProfileStage:
             self.last_dir, self.since = direction, 1
         elif self.since < self.tick:
             self.since += 1
+        self.target = self._next_target(i)
+        # the override's product, two clocks of pipeline
+        self.ov_target = self.ov_prod
+        self.ov_prod = ((self.v_cruise << SPEED_SHIFT) * self.ov_q) >> 7
+        # registered compares of this clock's registers, for the next clock
+        cur = self.cur
+        full = past_exit = past_stop = False
+        if cur is not None:
+            full = self.credit >= (cur.largest_cost() << COST_SHIFT) << 1
+            earned = self.s + (self.credit >> COST_SHIFT)
+            past_exit, past_stop = earned >= cur.d_exit, earned >= cur.d_stop
         # credit and distance
         segment_ends = False
         if w.stopped:
@@ -397,6 +434,10 @@ class ProfileStage:
                 self.s += w.cost
                 if i.head_last:
                     self.s, self.cur, segment_ends = 0, None, True
+        # the compares belong to the segment they were made in
+        if segment_ends or w.stopped:
+            full = past_exit = past_stop = False
+        self.full, self.past_exit, self.past_stop = full, past_exit, past_stop
         # the exit staircase; it ends with its segment
         self.ramp_on, self.ramp_dry, self.ramp_v = w.ramp_on, w.ramp_dry, w.ramp_v
         self.ramp_left = w.ramp_left
@@ -405,6 +446,7 @@ class ProfileStage:
         if w.take:
             self.cur = i.next_profile
             self.accel = i.next_profile.accel
+            self.v_cruise = i.next_profile.v_cruise
         if w.dry_now:
             self.dry = 1
         # no segment after this edge: nothing to pace, the speed is 0 at once (after a
@@ -444,11 +486,14 @@ def accel_distance(v_from: int, v_to: int, accel: int, div: int) -> int:
 def exit_ramp_distance(v_from: int, v_to: int, accel: int, div: int) -> int:
     """Distance (BLU x 2^38) the stage earns from the clock its exit staircase starts
     at ``v_from`` until its first clock at ``v_to`` (register units), at full speed:
-    a first level of 2^div clocks at v_from (the first step comes a tick after the
-    start), then ``ramp_distance`` less its first clock.  0 if v_from <= v_to."""
+    the staircase steps every 2^div clocks from a tick after its start, and the speed
+    follows each step RAMP_LAG - 1 clocks late, so a first level of 2^div +
+    RAMP_LAG - 1 clocks at v_from, then ``ramp_distance`` less its first clock.  0
+    if v_from <= v_to."""
     if v_from <= v_to:
         return 0
-    return (v_from << div) + ramp_distance(v_from, v_to, accel, div) - v_from
+    return ((v_from << div) + ramp_distance(v_from, v_to, accel, div)
+            + (RAMP_LAG - 2) * v_from)
 
 
 @dataclass(frozen=True)
@@ -468,21 +513,24 @@ def exit_distance(length: int, v_entry: int, v_peak: int, v_exit: int, accel: in
     creep speed ``accel``), so that the stage, running without events, makes the
     segment's last move at exactly the exit speed.
 
-    The conditions (see the model): the staircase starts on the first clock n0 with
-    E >= d_exit, so E(n0) < d_exit + v (one clock's gain), or E(n0) = the carry
-    < 2 v_entry when d_exit is reached at once; the segment's last move pops on the
-    first clock with E >= length; E(n0) + exit_ramp_distance <= length therefore
-    keeps every clock of the staircase before it, and the last move is made at the
-    exit speed.  ``accelerates``: from v_entry the stage surely reaches v_peak before
-    d_exit (worst phase of its steps up, ``accel_distance``); else it may start the
-    staircase below the peak and end it early (it then runs the rest at the exit
-    speed: slower, never faster)."""
+    The conditions (see the model): the staircase starts on the clock n0 after the
+    first clock with E >= d_exit, so E(n0) < d_exit + 2 v (two clocks' gain), or
+    E(n0) < the carry + v_entry < 3 v_entry when d_exit is reached on the segment's
+    first clock; the segment's last move pops on the first clock with E >= length;
+    E(n0) + exit_ramp_distance <= length therefore keeps every clock of the
+    staircase before it, and the last move is made at the exit speed.
+    ``accelerates``: from v_entry the stage surely reaches v_peak before d_exit
+    (worst phase of its steps up, ``accel_distance``, plus a tick and four clocks:
+    the target register and the override product's pipeline may hold the first
+    step back or clamp it); else it may start the staircase below the peak and end
+    it early (it then runs the rest at the exit speed: slower, never faster)."""
     vp = v_peak << SPEED_SHIFT
     vin = v_entry << SPEED_SHIFT
     vout = v_exit << SPEED_SHIFT if v_exit else accel
     total = length << COST_SHIFT
-    budget = total - exit_ramp_distance(vp, vout, accel, div) - vp
-    reach = 2 * vin + accel_distance(vin, vp, accel, div)
+    budget = total - exit_ramp_distance(vp, vout, accel, div) - TRIGGER_CLOCKS * vp
+    reach = (2 * vin + accel_distance(vin, vp, accel, div)
+             + (((1 << div) + 4) * vp if vp > vin else 0))
     accelerates = vp > vin and reach <= budget
     fits = budget >= 2 * vin and budget >= vp
     return ExitPlan(max(budget, 0) >> COST_SHIFT, accelerates, fits)
