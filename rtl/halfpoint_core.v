@@ -590,7 +590,7 @@ module halfpoint_core #(
     ) u_profile (
         .clk            (clk),
         .rst            (rst),
-        .abort          (abort_now),
+        .abort_now      (abort_now),
         .head_valid     (move_valid),
         .head_class     (head_class),
         .head_last      (head_last),
@@ -604,7 +604,7 @@ module halfpoint_core #(
         .next_d_stop    (next_profile[116 + DW +: DW]),
         .hold           (hold),
         .stop           (stop),
-        .override       (feed_override),
+        .feed_override  (feed_override),
         .pop            (stage_pop),
         .take           (stage_take),
         .stopped        (stage_stopped),
