@@ -141,7 +141,7 @@ module halfpoint_profile #(
     endgenerate
 
     localparam integer DW = W + 19;                             // distances
-    localparam integer RW = (W + 43 > DIV + 41) ? W + 43 : DIV + 41;  // ramp_left
+    localparam integer RW = DIV + 42;                           // ramp_left
     localparam integer VW = 38;                                 // speeds
     localparam [17:0] COST_AXIS = 18'd65536;                    // 2^16
     localparam [17:0] COST_DIAGONAL = 18'd92682;                // round(sqrt(2) x 2^16)
@@ -168,7 +168,9 @@ module halfpoint_profile #(
     reg  [37:0]   v_q;              // speed
     reg  [37:0]   target_q;         // its target, a clock ahead
     reg  [41:0]   credit_q;
-    reg           full_q;           // the credit was at its cap a clock ago
+    // the credit's gain: 0 when the credit was at its cap a clock ago (the
+    // model's full), else v (a copy of v_q for the credit's paths)
+    reg  [37:0]   gain_q;
     reg  [DW-1:0] s_q;              // popped distance in the segment
     reg  [DIV-1:0] since_q;         // clocks since the last speed step - 1, saturating
     reg           last_up_q;        // direction of the last speed step
@@ -215,7 +217,7 @@ module halfpoint_profile #(
     // Credit: + v unless it was at its cap a clock ago, - the popped cost;
     // both outcomes side by side, pop_now selects
     // ------------------------------------------------------------------
-    wire [37:0]   gain = full_q ? 38'd0 : v_q;
+    wire [37:0]   gain = gain_q;
     wire [41:0]   credit_keep = credit_q + {4'd0, gain};
     // credit + gain - (cost << 22): one carry-save level, the +1 of the
     // negated cost in the free bit 0 of the carries
@@ -323,9 +325,13 @@ module halfpoint_profile #(
     wire [RW-2:0] sf_m2 = (sf_x[RW-2:0] & sf_y[RW-2:0]) | (sf_x[RW-2:0] & rv_four[RW-2:0])
                           | (sf_y[RW-2:0] & rv_four[RW-2:0]);
     wire [RW-1:0] left_step_floor = sf_x2 + {sf_m2, 1'b0};
-    wire [RW-1:0] ramp_left_n = ramp_start ? left_start
-                                : (!ramp_step ? left_held
-                                   : (ramp_below ? left_step_floor : left_step_down));
+    wire [RW-1:0] left_sum = ramp_start ? left_start
+                             : (!ramp_step ? left_held
+                                : (ramp_below ? left_step_floor : left_step_down));
+    // saturating at -2^(DIV+40) (profile.ramp_left_floor): below it the top
+    // two bits are 10
+    wire          left_under = left_sum[RW-1] && !left_sum[RW-2];
+    wire [RW-1:0] ramp_left_n = left_under ? {2'b11, {(RW-2){1'b0}}} : left_sum;
     wire          dry_now = cur_valid_q && ramp_on_n && ramp_dry_n;
 
     // ------------------------------------------------------------------
@@ -402,6 +408,7 @@ module halfpoint_profile #(
 
     wire          cur_valid_n = take_now || (cur_valid_q && !at_rest_stop && !segment_ends);
     wire          same_segment = cur_valid_q && !at_rest_stop && !segment_ends;
+    wire [37:0]   v_next = cur_valid_n ? v_n : 38'd0;
 
     always @(posedge clk) begin
         if (rst || abort_now) begin
@@ -411,7 +418,7 @@ module halfpoint_profile #(
             v_q         <= 38'd0;
             target_q    <= 38'd0;
             credit_q    <= 42'd0;
-            full_q      <= 1'b0;
+            gain_q      <= 38'd0;
             s_q         <= {DW{1'b0}};
             since_q     <= {DIV{1'b1}};
             last_up_q   <= 1'b0;
@@ -426,10 +433,10 @@ module halfpoint_profile #(
             ramp_on_q   <= 1'b0;
             ramp_dry_q  <= 1'b0;
             ramp_v_q    <= 38'd0;
-            ramp_left_q <= {RW{1'b0}};
         end else begin
             // speed and its cadence; no segment after this edge: the speed is 0
-            v_q <= cur_valid_n ? v_n : 38'd0;
+            v_q <= v_next;
+            gain_q <= (same_segment && at_cap) ? 38'd0 : v_next;
             target_q <= target_n;
             if (step_up || step_down) begin
                 last_up_q   <= step_up;
@@ -457,18 +464,15 @@ module halfpoint_profile #(
                 end
             end
             // compares of this clock's registers, for the next clock
-            full_q      <= same_segment && at_cap;
             past_exit_q <= same_segment && earned_past_exit;
             past_stop_q <= same_segment && earned_past_stop;
             // the exit staircase; it ends with its segment
             if (same_segment && ramp_on_n) begin
                 ramp_on_q   <= 1'b1;
                 ramp_dry_q  <= ramp_dry_n;
-                ramp_left_q <= ramp_left_n;
             end else begin
                 ramp_on_q   <= 1'b0;
                 ramp_dry_q  <= 1'b0;
-                ramp_left_q <= {RW{1'b0}};
             end
             ramp_v_q <= cur_valid_q ? ramp_v_n : 38'd0;
             // the segment
@@ -478,6 +482,13 @@ module halfpoint_profile #(
                 v_cruise_q <= next_v_cruise;
             end
         end
+    end
+
+    // the staircase's remainder: used only while the staircase runs, and a
+    // start loads it afresh, so it is computed on every edge without a reset
+    // or a clear (the model's 0 while the staircase is off is not held)
+    always @(posedge clk) begin
+        ramp_left_q <= ramp_left_n;
     end
 
     // the current profile's fields and what is derived from them: loaded on

@@ -262,6 +262,12 @@ class ProfileView:
     stopped: bool = False   # stop, at rest: the rest is dropped at this edge
 
 
+def ramp_left_floor(div: int) -> int:
+    """The least value of the staircase's remainder ``ramp_left`` (it saturates
+    there): 2^(div + 40), so that it is div + 42 bits signed."""
+    return 1 << (div + 40)
+
+
 class ProfileStage:
     """Clock-by-clock model of the profile stage (``div``: tick = 2^div clocks).
 
@@ -273,7 +279,8 @@ class ProfileStage:
     clocks of pipeline), ``dry`` (sticky), ``past_exit`` / ``past_stop`` (the earned
     distance compared with d_exit / d_stop a clock earlier) and the exit staircase:
     ``ramp_on``, ``ramp_dry``, ``ramp_v`` (its speed), ``ramp_left`` (distance, BLU x
-    2^38, before its next step; max(W + 43, DIV + 41) bits signed)."""
+    2^38, before its next step; DIV + 42 bits signed, saturating at
+    -``ramp_left_floor``)."""
 
     def __init__(self, div: int, width: int = 32):
         if not 1 <= div <= 24:
@@ -350,6 +357,10 @@ class ProfileStage:
             left += (ramp_v << div) + RAMP_LAG * (above - ramp_v)
         elif start:
             left = (ramp_v << div) - ramp_v - w.gain
+        # saturating below: only its sign decides, and a level adds < 2^(div + 40),
+        # so a remainder further down only appears where the levels are shorter
+        # than a clock's gain (profiles not from the planner)
+        left = max(left, -ramp_left_floor(div))
         w.ramp_on, w.ramp_dry, w.ramp_step, w.ramp_v = on, dry_mode, step, ramp_v
         w.ramp_left = left if on else 0
         w.dry_now = bool(on and dry_mode)
