@@ -6,28 +6,35 @@
 // ============================================================================
 // Clock for clock the class ProfileStage of model/halfpoint/spec/profile.py
 // (its docstring has the fixed-point table and the rules; this file keeps
-// the model's names).  Per clock:
+// the model's names).  Every register's next value is at most one carry
+// chain (with carry-save levels in front where three or four operands
+// meet) away from registers; the pop is the one decision taken in the clock.
+// Per clock:
 //   * the head move of the move queue pops (pop) when its credit covers its
 //     cost (65536 for an axis move, 92682 for a diagonal arc move, the
-//     segment's line_cost for a line iteration, BLU x 2^16), every axis it
+//     segment's line_cost for a line iteration, BLU x 2^16; the three
+//     compares from registers, the head's class selects), every axis it
 //     steps is ready, and the stage is not stopped at rest; on the segment's
 //     last move the next profile is taken (take) if available, the
 //     distance s restarts at 0 and the credit's remainder is carried;
-//   * the credit grows by the speed v, capped at twice the segment's largest
-//     cost; the earned distance E = s + credit / 2^22 drives the exit
-//     staircase: a speed limit that starts at the cruise speed when
-//     E >= d_exit (or E >= d_stop with the next profile missing and a
-//     non-zero exit speed: the dry queue, sticky flag dry) and steps down
-//     by accel each time the earned distance covers one level (2^DIV clocks
-//     of its speed), down to the exit speed (to the creep speed accel when
-//     the exit speed is 0 or the queue is dry);
-//   * the target is 0 under hold or stop, else the cruise speed scaled by
-//     the override (a shift-add of 7 terms, no multiplier), limited by the
-//     staircase; v steps by accel towards it, two steps in the same
-//     direction at least 2^DIV clocks apart;
-//   * stop at rest drops the segment and the credit (stopped); abort clears
-//     everything but dry at the edge and makes pop, take, stopped and
-//     holding 0 during its clock.
+//   * the credit grows by the gain: v, or 0 when it was at its cap (twice
+//     the segment's largest cost) a clock ago; the earned distance
+//     E = s + credit / 2^22 is compared with d_exit and d_stop and the
+//     results registered (past_exit_q, past_stop_q);
+//   * the exit staircase starts at the cruise speed on a clock with
+//     past_exit_q (or past_stop_q with the next profile missing and a
+//     non-zero exit speed: the dry queue, sticky flag dry) and steps down by
+//     accel on each clock that starts with its remainder ramp_left_q
+//     negative, down to the exit speed (to the creep speed accel when the
+//     exit speed is 0 or the queue is dry); the remainder falls by the gain
+//     and a step adds the next level, (stepped << DIV) + 4 x the step;
+//   * the target of the next clock is registered: 0 under hold or stop or
+//     without a segment, else the least of the override's product, the
+//     cruise speed and the running staircase; v steps by accel towards
+//     target_q, two steps in the same direction at least 2^DIV clocks apart;
+//   * stop at rest drops the segment and the credit (stopped); abort_now
+//     clears everything but dry at the edge and makes pop, take, stopped
+//     and holding 0 during its clock.
 //
 // pop, take, stopped and holding are combinational (the core uses them in
 // the same clock); speed, dry and busy come from registers.
@@ -35,42 +42,30 @@
 // Register widths (every register of the model, its range and why nothing
 // overflows; units as in the model: speeds BLU per clock x 2^38, credit and
 // ramp_left BLU x 2^38, distances BLU x 2^16):
-//   v_q 38         <= the target, which is <= v_cruise x 2^6 < 2^38
-//   credit_q 41    <= the cap 2 x (2^18 - 1) x 2^22 < 2^41 after every clock
-//                  with a segment (42 bits before the cap: + v < 2^38)
+//   v_q, target_q 38   <= v_cruise x 2^6 < 2^38
+//   credit_q 42    < cap + 2 v < 2^41 + 2^39 (v is still added on the clock
+//                  after the credit reached the cap)
+//   gain_q 38      the model's 0-if-full-else-v, registered with v_q
 //   s_q W+19       the popped costs of one segment, < 2^(W+19) (the caller's
 //                  bound on a segment, as for d_exit); E needs W+20 bits
 //   ramp_v_q 38    the cruise speed x 2^6, the exit speed x 2^6 or accel
-//   ramp_left_q    signed, RW = max(W+43, DIV+40) bits, not the model
-//                  table's DIV+40: see below
+//   ramp_left_q    DIV+42 bits signed: a level is < 2^(DIV+38) + 2^40 and is
+//                  added only to a negative remainder; saturates at
+//                  -2^(DIV+40) (profile.ramp_left_floor); not cleared while
+//                  the staircase is off (a start loads it)
 //   since_q DIV    clocks since the last speed step, minus 1, saturating at
 //                  2^DIV - 1 (the model's 1 .. 2^DIV)
-//   ov_target_q 38 the model's ov_q (0 .. 128, registered override) as its
-//                  product with the cruise speed, (v_cruise << 6) x ov_q >> 7
-//                  <= v_cruise x 2^6 < 2^38, registered at the same edge
-//   cur_valid_q, the current profile (v_cruise_q, accel_q, line_cost_q,
-//   d_exit_q, d_stop_q; v_exit as exit_speed_q with exit_nonzero_q, and the
-//   credit cap cap_q, derived when the profile is taken), last_up_q /
-//   last_down_q (the model's last_dir), dry_q, ramp_on_q, ramp_dry_q: as in
+//   ov_q 8, ov_part_a_q .. ov_part_d_q 38, ov_target_q 38: the override
+//                  clipped at 128, the four partial sums of its product with
+//                  v_cruise_q (the model's ov_prod) and their sum
+//   cruise_level_q, accel_level_q, exit_level_q DIV+42: cruise x (2^DIV-1),
+//                  accel x (2^DIV-4), exit speed x (2^DIV-4), signed; with
+//                  exit_speed_q, exit_plus_accel_q, exit_nonzero_q and cap_q
+//                  derived from the profile when it is taken
+//   cur_valid_q, v_cruise_q, accel_q (both kept after the segment),
+//   line_cost_q, d_exit_q, d_stop_q, last_up_q / last_down_q (the model's
+//   last_dir), dry_q, past_exit_q, past_stop_q, ramp_on_q, ramp_dry_q: as in
 //   the model's table and class.
-//
-// ramp_left: the model's table gives DIV+40 bits (> -1 BLU per clock: one
-// clock's gain past a level).  That holds when every level (2^DIV clocks of
-// the staircase's speed) is longer than one clock's gain.  With profiles
-// not from the host's planner, a segment entered at a speed v above 2^DIV
-// times its staircase's speed steps on every clock and the remainder falls
-// by about v each clock, for as long as the segment lasts; and on a
-// segment's first clock the gain is negative when the carried credit is
-// above the new segment's cap (a start then adds up to 2^41).  Bounds:
-//   upper: a start gives ramp_v x 2^DIV - gain < 2^(38+DIV) + 2^41; a step
-//          gives at most ramp_v x 2^DIV; otherwise it only falls (gain >= 0
-//          whenever the staircase already ran on the previous clock, since
-//          the credit is then within the segment's own cap);
-//   lower: at least minus the sum of the positive gains since its start,
-//          i.e. minus (credit at the end + the popped costs x 2^22 + one
-//          negative gain) > -(2^41 + 2^(W+41) + 2^41) >= -2^(W+42).
-// Both fit max(W+43, DIV+40) bits signed; the model's step decision
-// ramp_left <= gain is then exact.
 //
 // Parameters: see the comment above each (an illegal value stops
 // elaboration).
@@ -141,7 +136,7 @@ module halfpoint_profile #(
     endgenerate
 
     localparam integer DW = W + 19;                             // distances
-    localparam integer RW = (W + 43 > DIV + 41) ? W + 43 : DIV + 41;  // ramp_left
+    localparam integer RW = DIV + 42;                           // ramp_left
     localparam integer VW = 38;                                 // speeds
     localparam [17:0] COST_AXIS = 18'd65536;                    // 2^16
     localparam [17:0] COST_DIAGONAL = 18'd92682;                // round(sqrt(2) x 2^16)
@@ -168,7 +163,9 @@ module halfpoint_profile #(
     reg  [37:0]   v_q;              // speed
     reg  [37:0]   target_q;         // its target, a clock ahead
     reg  [41:0]   credit_q;
-    reg           full_q;           // the credit was at its cap a clock ago
+    // the credit's gain: 0 when the credit was at its cap a clock ago (the
+    // model's full), else v (a copy of v_q for the credit's paths)
+    reg  [37:0]   gain_q;
     reg  [DW-1:0] s_q;              // popped distance in the segment
     reg  [DIV-1:0] since_q;         // clocks since the last speed step - 1, saturating
     reg           last_up_q;        // direction of the last speed step
@@ -201,13 +198,30 @@ module halfpoint_profile #(
         endcase
     end
     wire [19:0]   credit_whole = credit_q[41:22];              // credit in cost units
-    wire          can_pop = cur_valid_q && head_valid && (credit_whole >= {2'b0, cost});
-    wire          pop_now = can_pop && ready && !at_rest_stop;
-    wire          take_now = next_valid && (cur_valid_q ? (pop_now && head_last) : !stop);
+    // the credit against each cost from registers alone; the head's class
+    // selects among them, so the inputs only meet the last LUTs
+    wire          covers_axis = |credit_whole[19:16];          // >= 2^16
+    wire          covers_diagonal = (credit_whole >= {2'b0, COST_DIAGONAL});
+    wire          covers_line = (credit_whole >= {2'b0, line_cost_q});
+    reg           covers;
+    always @(*) begin
+        case (head_class)
+            2'd0:    covers = covers_axis;
+            2'd1:    covers = covers_diagonal;
+            default: covers = covers_line;
+        endcase
+    end
+    // everything else of pop and take, side by side with the compares
+    wire          pop_ok = cur_valid_q && head_valid && ready && !at_rest_stop;
+    wire          take_last = next_valid && head_last;
+    wire          take_idle = next_valid && !cur_valid_q && !stop;
+    wire          can_pop = cur_valid_q && head_valid && covers;
+    wire          pop_now = covers && pop_ok;
+    wire          take_now = (pop_now && take_last) || take_idle;
     wire          segment_ends = pop_now && head_last;
 
-    assign pop     = pop_now && !abort_now;
-    assign take    = take_now && !abort_now;
+    assign pop     = covers && pop_ok && !abort_now;
+    assign take    = ((covers && pop_ok && take_last) || take_idle) && !abort_now;
     assign stopped = at_rest_stop && !abort_now;
     assign holding = hold && v_zero && !can_pop && !abort_now;
 
@@ -215,7 +229,7 @@ module halfpoint_profile #(
     // Credit: + v unless it was at its cap a clock ago, - the popped cost;
     // both outcomes side by side, pop_now selects
     // ------------------------------------------------------------------
-    wire [37:0]   gain = full_q ? 38'd0 : v_q;
+    wire [37:0]   gain = gain_q;
     wire [41:0]   credit_keep = credit_q + {4'd0, gain};
     // credit + gain - (cost << 22): one carry-save level, the +1 of the
     // negated cost in the free bit 0 of the carries
@@ -323,9 +337,13 @@ module halfpoint_profile #(
     wire [RW-2:0] sf_m2 = (sf_x[RW-2:0] & sf_y[RW-2:0]) | (sf_x[RW-2:0] & rv_four[RW-2:0])
                           | (sf_y[RW-2:0] & rv_four[RW-2:0]);
     wire [RW-1:0] left_step_floor = sf_x2 + {sf_m2, 1'b0};
-    wire [RW-1:0] ramp_left_n = ramp_start ? left_start
-                                : (!ramp_step ? left_held
-                                   : (ramp_below ? left_step_floor : left_step_down));
+    wire [RW-1:0] left_sum = ramp_start ? left_start
+                             : (!ramp_step ? left_held
+                                : (ramp_below ? left_step_floor : left_step_down));
+    // saturating at -2^(DIV+40) (profile.ramp_left_floor): below it the top
+    // two bits are 10
+    wire          left_under = left_sum[RW-1] && !left_sum[RW-2];
+    wire [RW-1:0] ramp_left_n = left_under ? {2'b11, {(RW-2){1'b0}}} : left_sum;
     wire          dry_now = cur_valid_q && ramp_on_n && ramp_dry_n;
 
     // ------------------------------------------------------------------
@@ -402,6 +420,7 @@ module halfpoint_profile #(
 
     wire          cur_valid_n = take_now || (cur_valid_q && !at_rest_stop && !segment_ends);
     wire          same_segment = cur_valid_q && !at_rest_stop && !segment_ends;
+    wire [37:0]   v_next = cur_valid_n ? v_n : 38'd0;
 
     always @(posedge clk) begin
         if (rst || abort_now) begin
@@ -411,7 +430,7 @@ module halfpoint_profile #(
             v_q         <= 38'd0;
             target_q    <= 38'd0;
             credit_q    <= 42'd0;
-            full_q      <= 1'b0;
+            gain_q      <= 38'd0;
             s_q         <= {DW{1'b0}};
             since_q     <= {DIV{1'b1}};
             last_up_q   <= 1'b0;
@@ -426,10 +445,10 @@ module halfpoint_profile #(
             ramp_on_q   <= 1'b0;
             ramp_dry_q  <= 1'b0;
             ramp_v_q    <= 38'd0;
-            ramp_left_q <= {RW{1'b0}};
         end else begin
             // speed and its cadence; no segment after this edge: the speed is 0
-            v_q <= cur_valid_n ? v_n : 38'd0;
+            v_q <= v_next;
+            gain_q <= (same_segment && at_cap) ? 38'd0 : v_next;
             target_q <= target_n;
             if (step_up || step_down) begin
                 last_up_q   <= step_up;
@@ -457,18 +476,15 @@ module halfpoint_profile #(
                 end
             end
             // compares of this clock's registers, for the next clock
-            full_q      <= same_segment && at_cap;
             past_exit_q <= same_segment && earned_past_exit;
             past_stop_q <= same_segment && earned_past_stop;
             // the exit staircase; it ends with its segment
             if (same_segment && ramp_on_n) begin
                 ramp_on_q   <= 1'b1;
                 ramp_dry_q  <= ramp_dry_n;
-                ramp_left_q <= ramp_left_n;
             end else begin
                 ramp_on_q   <= 1'b0;
                 ramp_dry_q  <= 1'b0;
-                ramp_left_q <= {RW{1'b0}};
             end
             ramp_v_q <= cur_valid_q ? ramp_v_n : 38'd0;
             // the segment
@@ -478,6 +494,13 @@ module halfpoint_profile #(
                 v_cruise_q <= next_v_cruise;
             end
         end
+    end
+
+    // the staircase's remainder: used only while the staircase runs, and a
+    // start loads it afresh, so it is computed on every edge without a reset
+    // or a clear (the model's 0 while the staircase is off is not held)
+    always @(posedge clk) begin
+        ramp_left_q <= ramp_left_n;
     end
 
     // the current profile's fields and what is derived from them: loaded on

@@ -1,7 +1,10 @@
 # SPDX-License-Identifier: Apache-2.0
 """Executable specification of the motion-profile stage (issue 13, items 2 and 5).
 
-No RTL yet; this model is what the RTL will be held to, clock by clock.  It is
+``rtl/halfpoint_profile.v`` is held to this model clock by clock.  Every decision
+that is not the pop itself is taken from registers (compares registered a clock
+early, the target registered, the override's product pipelined), so that each
+register's next value is at most one carry chain away from registers.  It is
 integer-only: per clock it uses adders, comparators, constant shifts and muxes;
 the one product, the feed override applied to the cruise speed, is a shift-add of
 an 8-bit override (see ``ProfileStage.view``).  The host-side functions below
@@ -40,44 +43,74 @@ d_exit, d_stop  W+19    2^-16 BLU           < 2^(W+3): a segment's cost length, 
                                             core's position width (51 bits at W = 32)
 speed register v  38    2^-38 BLU/clock     < 1 BLU/clock (the fields shifted by 6)
 ramp_v            38    2^-38 BLU/clock     the exit staircase's speed, <= v_cruise
-ramp_left     DIV+40    2^-38 BLU           signed; < 2^DIV levels of < 1 BLU/clock,
-                                            > -1 (one clock's gain past the level)
-credit            41    2^-38 BLU           < 2 * largest cost < 2^3 (42 before the cap)
+ramp_left     DIV+42    2^-38 BLU           signed; a level is < 2^(DIV+38) + 2^40;
+                                            saturates at -2^(DIV+40) (see below)
+target            38    2^-38 BLU/clock     <= v_cruise x 2^6, registered a clock ahead
+ov_prod, ov_target 38   2^-38 BLU/clock     (v_cruise << 6) * ov_q >> 7 <= v_cruise x 2^6,
+                                            two clocks of pipeline
+credit            42    2^-38 BLU           < cap + 2 v (v is added on the clock after
+                                            it reached the cap, cap = 2 * largest
+                                            cost <= 2^41 - 2^23)
 distance s      W+19    2^-16 BLU           as d_exit (sum of the popped costs)
 tick counter     DIV    clocks              1 .. 2^DIV, saturating
 ===============  =====  ==================  =========================================
 
+ramp_left: a level (2^DIV clocks of the staircase's speed) ends with the remainder
+at most one clock's gain below 0 when every level is longer than a clock's gain
+(planned profiles).  With profiles not from the planner (a segment entered at a
+speed above 2^DIV times its staircase's speed) the remainder falls by about v on
+every clock for as long as the segment lasts: unbounded, it needed max(W + 43,
+DIV + 40) bits (found by the RTL's first version: minus the popped costs of a
+whole segment, plus a negative gain when a carried credit was above the new cap).
+Only its sign decides, and the credit's gain is never negative now, so it
+saturates at -2^(DIV+40): DIV + 42 bits signed whatever W.
+
 A profile command therefore needs 32 + 32 + 34 + 18 + 2 (W + 19) = 218 bits at
 W = 32: it fits the 224 bits of a 256-bit beat after the 32-bit opcode word.
 
-Per clock (``ProfileStage.clock``):
+Per clock (``ProfileStage.clock``); "registered" means computed from the registers
+of this clock and used on the next one:
 
-* credit += v while a segment is current, capped at twice the segment's largest
-  cost (arcs: the diagonal cost, lines: the line cost), so credit cannot pile up
+* credit += v while a segment is current, unless the credit was at or above its
+  cap (twice the segment's largest cost: arcs the diagonal cost, lines the line
+  cost) on the clock before (``full``, registered), so credit cannot pile up
   while nothing can move; a move pops when the head is valid, credit >= its cost,
   ``ready``, and not ``stop`` at rest; credit -= cost, s += cost; on the segment's
   last move the next profile becomes current (if available), s restarts at 0 and
-  the credit's remainder is carried.  E = s + credit (the distance earned, exact
-  to one clock, not only the distance popped) drives everything below.
+  the credit's remainder is carried.  The pop is the one decision taken in the
+  clock (from the credit register and the inputs).  E = s + credit (the distance
+  earned, exact to one clock, not only the distance popped) drives everything
+  below; its gain is v or 0, never negative.
+* ``past_exit`` / ``past_stop``: E >= d_exit / E >= d_stop, registered (false on a
+  segment's first clock).
 * the exit staircase (``_ramp``): a speed limit that starts at the segment's peak
-  on the first clock with E >= d_exit (or E >= d_stop while the next profile is not
+  on a clock with ``past_exit`` (or ``past_stop`` while the next profile is not
   available and the exit speed is not 0: the dry queue, sticky flag ``dry``) and
-  steps down by ``accel`` each time E has grown by one tick (2^DIV clocks) of its
-  current speed, down to the exit speed (to the creep speed, one speed step, when
-  the exit speed is 0 or the queue is dry, so the segment finishes).  Its first
-  step comes one tick after its start.  At full speed it is exactly the time
-  staircase of ``exit_ramp_distance``; slower (override, hold, stalls) it keeps the
-  same distances, so the stage rejoins it instead of finishing the ramp early and
-  creeping the rest.  If the next profile arrives while it heads for the creep
-  speed, it returns to the plan (off before d_exit, else floor back to the exit
-  speed).
-* the target T: 0 under ``hold`` or ``stop`` or with no segment; else the cruise
-  speed scaled by the override, ``(v_cruise << 6) * ov >> 7`` (ov in 1/128, 0..128;
-  a shift-add of 8 terms), limited by the staircase.
-* the speed steps by ``accel`` towards T (never past it); two steps in the same
-  direction are at least 2^DIV clocks apart, a step in the other direction may
-  come at once.  So in any window of 2^DIV clocks the speed changes by at most
-  ``accel``: the acceleration limit, measured over a tick.
+  steps down by ``accel`` on each clock that starts with its remainder
+  ``ramp_left`` negative (the sign of a register), down to the exit speed (to the
+  creep speed, one speed step, when the exit speed is 0 or the queue is dry, so
+  the segment finishes).  The remainder falls by E's gain each clock; the first
+  level is (2^DIV - 1) clocks of the peak, each further one 2^DIV clocks of its
+  speed plus RAMP_LAG = 4 times the step that started it (the speed follows a
+  step three clocks late, spending them at the level above).  So at full speed
+  its steps come exactly a tick apart, the first a tick after its start, and the
+  speed is exactly the time staircase of ``exit_ramp_distance``; slower
+  (override, hold, stalls) it keeps the same distances, so the stage rejoins it
+  instead of finishing the ramp early and creeping the rest.  If the next profile
+  arrives while it heads for the creep speed, it returns to the plan (off before
+  d_exit, else floor back to the exit speed).
+* the override's product ``(v_cruise << 6) * ov >> 7`` (ov in 1/128, 0..128,
+  registered as ``ov_q``; a shift-add of 8 terms) is two clocks of pipeline
+  (``ov_prod``, ``ov_target``) from the ``v_cruise`` register (the last current
+  segment's, kept after it ends), so on a segment's first two clocks it is still
+  the previous segment's.
+* the target, registered: 0 under ``hold`` or ``stop`` or with no segment; else the
+  least of ``ov_target``, the cruise speed (which bounds the stale product of a
+  segment's first clocks) and the staircase while it runs.
+* the speed steps by ``accel`` towards the registered target (never past it); two
+  steps in the same direction are at least 2^DIV clocks apart, a step in the
+  other direction may come at once.  So in any window of 2^DIV clocks the speed
+  changes by at most ``accel``: the acceleration limit, measured over a tick.
 
 Peers: the speed changes once per period as in LinuxCNC's trajectory planner
 (``tp.c``, ``tpCalculateTrapezoidalAccel``, once per servo period; it limits the
@@ -119,17 +152,23 @@ Bounds (proved where said, else measured by the tests):
 * no events, profiles from ``plan_integer``: every segment's last move is made at
   exactly its exit speed (creep speed for 0); the speed never exceeds the peak and
   stays within ``accel`` of the planned curve v_plan(s) = min(v_cruise,
-  sqrt(v_exit^2 + 2 (accel / 2^DIV) (L - s))) (measured 0.82 of a step): the
-  staircase is above the linear ramp by less than a step.
-* any pattern of hold, override, dry queue, STEP/DIR stalls: measured at most 1.34
-  steps above v_plan(s) (150 random runs); the tests hold it to 2 steps.  It exceeds one step when
-  the stage rejoins the staircase out of phase (after an override change): the
-  staircase then steps while the stage's cadence still waits, up to a tick.
+  sqrt(v_exit^2 + 2 (accel / 2^DIV) (L - s))): the staircase is above the linear
+  ramp by less than a step.  Exact for DIV >= 2 (a level must outlast the three
+  clocks of lag).
+* any pattern of hold, override, dry queue, STEP/DIR stalls: measured at most 0.82
+  steps above v_plan(s) (the random event runs of the tests; 1.34 before the
+  decisions were registered); the tests hold it to 2 steps.  The override toggling
+  every 29 clocks through a long ramp: 0.19 steps (1.49 before).
 * the speed changes by at most ``accel`` in any 2^DIV clocks (proved by the
   cadence rule), except the documented dry case above.
 * creep (clocks at the exit speed before the last move, no events): at most the
-  trigger clock's distance, v_peak / exit speed clocks, plus the 2^-16 rounding
-  of d_exit; triangles whose peak the staircase reaches only in part more.
+  distance of the two clocks between E reaching d_exit and the staircase's
+  start, 2 v_peak / exit speed clocks, plus the 2^-16 rounding of d_exit;
+  triangles whose peak the staircase reaches only in part more.
+* the host's reach test (``accelerates``) adds a tick and four clocks of v_peak to
+  the worst-phase acceleration distance: the registered target and the override
+  pipeline may hold a segment's first step up back by three clocks or clamp it
+  at the previous segment's product, which costs up to a tick.
 """
 
 from __future__ import annotations
@@ -262,6 +301,12 @@ class ProfileView:
     stopped: bool = False   # stop, at rest: the rest is dropped at this edge
 
 
+def ramp_left_floor(div: int) -> int:
+    """The least value of the staircase's remainder ``ramp_left`` (it saturates
+    there): 2^(div + 40), so that it is div + 42 bits signed."""
+    return 1 << (div + 40)
+
+
 class ProfileStage:
     """Clock-by-clock model of the profile stage (``div``: tick = 2^div clocks).
 
@@ -273,7 +318,8 @@ class ProfileStage:
     clocks of pipeline), ``dry`` (sticky), ``past_exit`` / ``past_stop`` (the earned
     distance compared with d_exit / d_stop a clock earlier) and the exit staircase:
     ``ramp_on``, ``ramp_dry``, ``ramp_v`` (its speed), ``ramp_left`` (distance, BLU x
-    2^38, before its next step; max(W + 43, DIV + 41) bits signed)."""
+    2^38, before its next step; DIV + 42 bits signed, saturating at
+    -``ramp_left_floor``)."""
 
     def __init__(self, div: int, width: int = 32):
         if not 1 <= div <= 24:
@@ -350,6 +396,10 @@ class ProfileStage:
             left += (ramp_v << div) + RAMP_LAG * (above - ramp_v)
         elif start:
             left = (ramp_v << div) - ramp_v - w.gain
+        # saturating below: only its sign decides, and a level adds < 2^(div + 40),
+        # so a remainder further down only appears where the levels are shorter
+        # than a clock's gain (profiles not from the planner)
+        left = max(left, -ramp_left_floor(div))
         w.ramp_on, w.ramp_dry, w.ramp_step, w.ramp_v = on, dry_mode, step, ramp_v
         w.ramp_left = left if on else 0
         w.dry_now = bool(on and dry_mode)
