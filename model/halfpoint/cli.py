@@ -204,6 +204,9 @@ def cmd_run(args) -> int:
     ex = res.execution
     print(f"simulated time: {res.seconds:.6f} s ({ex.cycles} clock cycles"
           + (f"; holds {', '.join(f'{a}:{b}' for a, b in holds)}" if holds else "") + ")")
+    if ex.approximate:
+        print("note: a long run with dwells on the fast model: the lattice path is the "
+              "core's, the cycles after each dwell are within a few ticks of it")
     if ex.dry:
         print("dry flag set: the command stream ran dry and the core had to slow down")
     if ex.underrun:

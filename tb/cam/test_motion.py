@@ -221,10 +221,31 @@ def test_dwell_is_a_timed_pause_in_program_order(tmp_path):
     gap = t[first] - t[first - 1]
     assert gap >= 4000                       # the core stopped, then waited 0.4 ms
     assert gap < 4000 + 3000                 # and went on: idle detection and ramp-up
-    # the fast model refuses nothing and agrees where it applies (no pauses)
-    items = [it for it in res.motion.items if not isinstance(it, Pause)]
+
+
+def test_fast_model_executor_equals_the_clocked_one(tmp_path):
+    """run_model's fast path (spec.fastcore, streams without pauses) against the
+    clock-by-clock executor on the same stream: every move and its cycle."""
+    text = "G21 G90 F600000\nG1 X5\nG1 X10 Y3\nG2 X14 Y3 I2 J0\nM2\n"
+    res = _run(tmp_path, text, execute=run_clocked)
+    items = res.motion.items
     cfg = core_config(SIM)
     assert run_model(items, cfg) == run_clocked(items, cfg)
+
+
+def test_long_runs_with_pauses_keep_the_lattice_path(tmp_path):
+    """run_paused_fast (long jobs with dwells): the same moves as the clock-by-clock
+    core, cycles within a few ticks after each pause, and it says it is approximate."""
+    from halfpoint.cam.motion import run_paused_fast
+
+    text = "G21 G90 F600000\nG1 X5\nG4 P0.0004\nG1 X10 Y-3\nG4 P0.0001\nG0 X0 Y0\nM2\n"
+    res = _run(tmp_path, text, execute=run_clocked)
+    fast = run_paused_fast(res.motion.items, core_config(SIM))
+    exact = res.execution
+    assert fast.approximate and not exact.approximate
+    assert [p for _, p in fast.moves] == [p for _, p in exact.moves]
+    assert max(abs(a - b) for (a, _), (b, _) in zip(fast.moves, exact.moves)) <= 16
+    assert abs(fast.cycles - exact.cycles) <= 16
 
 
 def test_compensated_moves_keep_their_dwells_in_order():

@@ -62,6 +62,7 @@ from ..spec.stepgen import StepCfg
 from .gcode import GcodeError, Move
 from .machine import Machine, MachineError
 from .planner import Dwell, Segment, plan, projected_limit
+from .summary import _plannable
 
 AXES = 3
 WIDTH = 32
@@ -127,8 +128,10 @@ def build_motion(q, items, machine: Machine, width: int = WIDTH) -> MotionPlan:
         raise MachineError("clock_hz", str(exc), machine.source) from None
     blu = machine.blu[:AXES]
     bx = blu[0]
-    planned = plan(items, machine)
-    seg_of = {id(s.move): s for s in planned if isinstance(s, Segment)}
+    # helices are planned as their flat arc at the feed that keeps their time (as the
+    # summary does; the planner does not plan helices yet)
+    planned = plan([it if isinstance(it, Dwell) else _plannable(it) for it in items], machine)
+    seg_of = {id(it): sg for it, sg in zip(items, planned) if isinstance(sg, Segment)}
     order = {}                  # id(move) -> its index among the moves
     dwells = []                 # (index of the first move after it, Dwell)
     for it in items:
@@ -284,6 +287,7 @@ class Execution:
     dry: int = 0                # the core's sticky dry flag at the end
     underrun: int = 0           # the core's sticky underrun flag at the end
     cycles: int = 0             # cycles run
+    approximate: bool = False   # cycles after a pause not clock-exact (run_paused_fast)
 
 
 IDLE_CYCLES = 4                 # idle cycles after the last item that end a run
@@ -373,23 +377,81 @@ def run_clocked(items, config: CoreConfig, holds=(), max_clocks: int | None = No
     return feeder.run
 
 
-def run_model(items, config: CoreConfig, holds=(), max_clocks: int | None = None
-              ) -> Execution:
-    """The core model as an executor: ``spec.fastcore.run_fast`` (event-skipping,
-    bit-exact with the clock-by-clock model and tested so) for a stream without
-    pauses, ``run_clocked`` otherwise (the fast model has no pause markers)."""
-    if any(isinstance(it, Pause) for it in items):
-        return run_clocked(items, config, holds, max_clocks)
+CLOCKED_LIMIT = 400_000         # a stream with pauses runs clock by clock up to this long
+
+
+def _fast(cmds, config: CoreConfig, holds, max_clocks):
     from ..spec.fastcore import run_fast
 
-    r = run_fast(list(items), config.axes, config.width, config.depth, config.tw, config.div,
-                 config.move_depth, config.profile_depth, config.step_cfg(), holds,
-                 max_clocks=max_clocks or max_clocks_for(items, holds))
-    # run_fast gives the cycle in which ``move`` shows; the edge that made it ended the
-    # cycle before
-    return Execution([(t - 1, tuple(p)) for t, p in zip(r.times, r.trace)], list(r.errors),
-                     r.dry, r.underrun, r.clocks)
+    return run_fast(list(cmds), config.axes, config.width, config.depth, config.tw,
+                    config.div, config.move_depth, config.profile_depth, config.step_cfg(),
+                    holds, max_clocks=max_clocks)
+
+
+def run_model(items, config: CoreConfig, holds=(), max_clocks: int | None = None
+              ) -> Execution:
+    """The core model as an executor.  Without pauses: ``spec.fastcore.run_fast``
+    (event-skipping, bit-exact with the clock-by-clock model and tested so).  With
+    pauses (the fast model has no pause markers): ``run_clocked`` when the run is short
+    (under ``CLOCKED_LIMIT`` clocks, measured by a fast run without the pauses), else
+    ``run_paused_fast``, exact in its lattice path but not cycle-exact after a pause
+    (``Execution.approximate`` says so)."""
+    limit = max_clocks or max_clocks_for(items, holds)
+    if not any(isinstance(it, Pause) for it in items):
+        r = _fast(items, config, holds, limit)
+        # run_fast gives the cycle in which ``move`` shows; the edge that made it ended
+        # the cycle before
+        return Execution([(t - 1, tuple(p)) for t, p in zip(r.times, r.trace)],
+                         list(r.errors), r.dry, r.underrun, r.clocks)
+    cmds = [it for it in items if not isinstance(it, Pause)]
+    pauses = sum(it.clocks for it in items if isinstance(it, Pause))
+    if _fast(cmds, config, holds, limit).clocks + pauses <= CLOCKED_LIMIT:
+        return run_clocked(items, config, holds, limit)
+    return run_paused_fast(items, config, holds, limit)
+
+
+def run_paused_fast(items, config: CoreConfig, holds=(), max_clocks: int | None = None
+                    ) -> Execution:
+    """Long streams with pauses on the fast model: each stretch between pauses runs on a
+    fresh core (``run_fast``) from the position the last one reached, the pause's clocks
+    after it went idle.  The lattice path, the errors and the flags are the core's; the
+    cycles after a pause can differ from the clock-by-clock core's by the STEP/DIR
+    generators' state a reset forgets (DIR setup and hold: a few ticks per pause)."""
+    limit = max_clocks or max_clocks_for(items, holds)
+    run = Execution()
+    run.approximate = True
+    offset = 0
+    pos = (0,) * config.axes
+    chunk: list = []
+    mask = (1 << config.width) - 1
+
+    def flush(chunk, offset, pos):
+        shifted = [(a - offset, b - offset) for a, b in holds if b > offset]
+        r = _fast(chunk, config, [(max(a, 0), b) for a, b in shifted], limit)
+        for t, p in zip(r.times, r.trace):
+            q = tuple(((u + v + (1 << (config.width - 1))) & mask) - (1 << (config.width - 1))
+                      for u, v in zip(pos, p))
+            run.moves.append((offset + t - 1, q))
+        run.errors += list(r.errors)
+        run.dry |= r.dry
+        run.underrun |= r.underrun
+        # the core went idle IDLE_CYCLES before run_fast stopped
+        return offset + r.clocks - IDLE_CYCLES, (run.moves[-1][1] if run.moves else pos)
+
+    for it in items:
+        if isinstance(it, Pause):
+            if chunk:
+                offset, pos = flush(chunk, offset, pos)
+                chunk = []
+            offset += it.clocks
+            continue
+        chunk.append(it)
+    if chunk:
+        offset, pos = flush(chunk, offset, pos)
+    run.cycles = offset + IDLE_CYCLES
+    return run
 
 
 __all__ = ["Pause", "PlannedCommand", "MotionPlan", "build_motion", "CoreConfig", "core_config",
-           "Execution", "Feeder", "run_clocked", "run_model"]
+           "Execution", "Feeder", "run_clocked", "run_model",
+           "run_paused_fast"]

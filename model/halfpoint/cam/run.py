@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import math
 import sys
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from ..spec import profile as pf
@@ -132,13 +132,17 @@ def _element(m: Move):
 
 
 def run_program(path: str, execute=None, radius=None, tools_path=None, strict=False,
-                machine: Machine | None = None, holds=(), window=5, width: int = 32
-                ) -> RunResult:
+                machine: Machine | None = None, holds=(), window=5, width: int = 32,
+                blu=None) -> RunResult:
     """``execute``: an executor ``(items, CoreConfig, holds, max_clocks=) -> Execution``
     (``cam.motion.run_model`` by default; ``halfpoint.sim.engines.executor("rtl")`` for
     the RTL).  ``machine``: the machine file (default ``machine.load_default()``);
-    ``holds``: (A, B) cycle intervals with hold high."""
+    ``holds``: (A, B) cycle intervals with hold high.  ``blu``: (x, y, z) in mm to
+    replace the machine's BLUs (a coarse lattice for short test runs)."""
     machine = machine or load_default()
+    if blu is not None:
+        machine = replace(machine, axes=tuple(replace(a, blu_mm=float(b))
+                                              for a, b in zip(machine.axes, blu)))
     prog, comp, summary = load_program(path, radius, tools_path, strict, window, machine)
     check_program(machine, comp.moves)
     blu = machine.blu
