@@ -7,7 +7,8 @@
     halfpoint run PROGRAM.ngc [--machine FILE] [--engine model|rtl] [--trace out.csv]
         [--hold A:B ...] [--profile out.png] [--plot out.png] [--zoom X0,X1,Y0,Y1]
     halfpoint fit ellipse --a A --b B --tol T [--quadrant 1|2|3|4 | --full]  (parabola, hyperbola)
-    halfpoint chords parabola --a A --b B --x0 X0 --x1 X1 --feed F --period T [--alg 1|2] [--substeps N]
+    halfpoint chords parabola --a A --b B --x0 X0 --x1 X1 --feed F --period T [--alg 1|2]
+        [--substeps N]
     halfpoint demo [--out DIR] [--engine model|rtl|both]
 """
 
@@ -123,7 +124,8 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def _comp_args(p) -> None:
-    p.add_argument("--radius", type=float, help="tool radius in mm for every G41/G42 (overrides --tools)")
+    p.add_argument("--radius", type=float,
+                   help="tool radius in mm for every G41/G42 (overrides --tools)")
     p.add_argument("--tools", help="LinuxCNC tool table (T<n> P<p> D<diameter>) for G41/G42 D<n>")
     p.add_argument("--strict", action="store_true",
                    help="a contour the tool cannot follow is an error (default: skip it, warn)")
@@ -278,11 +280,13 @@ def cmd_arc(args) -> int:
         raise UsageError(str(exc)) from None
     for name in ("xs", "ys", "xe", "ye"):
         if not fits(getattr(args, name), args.width):
-            raise UsageError(f"{name.upper()}={getattr(args, name)} does not fit a signed {args.width}-bit field")
+            raise UsageError(f"{name.upper()}={getattr(args, name)} does not fit a signed "
+                             f"{args.width}-bit field")
     cmd = (1 if args.cw else 0, args.xs, args.ys, args.xe, args.ye)
     (res,) = run_arcs([cmd], args.engine, args.width)
     if res.rejected:
-        print(f"halfpoint: arc rejected (code {res.rejected}): {ERR_TEXT[res.rejected]}", file=sys.stderr)
+        print(f"halfpoint: arc rejected (code {res.rejected}): {ERR_TEXT[res.rejected]}",
+              file=sys.stderr)
         return 3
     lines = [] if args.no_header else ["x,y"]
     lines += [f"{x},{y}" for x, y in res.points]

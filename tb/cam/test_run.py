@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: Apache-2.0
-"""End to end: G-code -> compensation -> quantisation -> planned PROFILEs -> core (model and RTL)."""
+"""End to end: G-code -> compensation -> quantisation -> planned PROFILEs -> core
+(model and RTL)."""
 
 from __future__ import annotations
 

@@ -38,8 +38,8 @@ command, and a ``Pause`` where a dwell is.
   program order: the executor stops feeding commands there until the core is idle,
   then waits those clocks.
 
-Executors (``run_model`` and ``run_clocked`` here; ``halfpoint.sim.engines`` has the RTL one; a faster
-model can take the same place) are functions ``(items, CoreConfig, holds) ->
+Executors (``run_model`` and ``run_clocked`` here; ``halfpoint.sim.engines`` has the
+RTL one; a faster model can take the same place) are functions ``(items, CoreConfig, holds) ->
 Execution``: ``items`` the plan's commands (ints) and ``Pause`` markers, ``holds``
 the (A, B) cycle intervals with ``hold`` high (A <= cycle < B).  Both share
 ``Feeder``, the clock-by-clock policy: offer the next command on every cycle

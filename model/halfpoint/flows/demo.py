@@ -27,7 +27,8 @@ def demo_arcs() -> list[tuple[str, tuple[int, int, int, int, int]]]:
     r2 = 17 * 17 + 23 * 23
     arcs.append(("CW, quadrant I to III", (1, 17, 23, *lattice_point_near(r2, math.radians(200)))))
     r2 = 31 * 31 + 12 * 12
-    arcs.append(("CCW, IV to II, 2 crossings", (0, 31, -12, *lattice_point_near(r2, math.radians(170)))))
+    arcs.append(("CCW, IV to II, 2 crossings",
+                 (0, 31, -12, *lattice_point_near(r2, math.radians(170)))))
     arcs.append(("full circle R=12.04, CW, off-axis", (1, -7, 10, -7, 10)))
     arcs.append(("CCW, near-full turn in one quadrant", (0, 20, 5, 20, 4)))
     return arcs
@@ -86,7 +87,8 @@ def run_demo(out_dir: str, engine: str = "both") -> int:
     fig.tight_layout()
     png = out / "arcs.png"
     fig.savefig(png, dpi=110)
-    print(f"engines: {', '.join(engines)}" + (" (identical lattice paths)" if len(engines) == 2 else ""))
+    print(f"engines: {', '.join(engines)}"
+          + (" (identical lattice paths)" if len(engines) == 2 else ""))
     print(f"plot: {png}")
     return run_gcode_demo(out, engines)
 
