@@ -403,6 +403,11 @@ class CoreSegment:
     that trapezoid in clocks.  A line that does not leave its lattice point (0
     iterations) has ``unit_mm`` 0 and everything 0: the quantiser sends no
     command for it.
+
+    The core's PROFILE commands (``halfpoint.cam.motion``) count every command in
+    one BLU of X, a line iteration costing its length (``line_cost``): their speeds
+    are this segment's ``v_cruise`` etc. times ``unit_mm / blu_x`` for lines, the same
+    for arcs.
     """
 
     unit_mm: float
