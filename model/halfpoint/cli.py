@@ -194,7 +194,8 @@ def cmd_run(args) -> int:
     blu = res.blu
     print(f"machine: {machine.source}, clock {machine.clock_hz} Hz, BLU "
           f"{'/'.join(f'{b:g}' for b in blu)} mm, profile tick 2^{res.motion.div} clocks")
-    print(f"blocks: {len(res.programmed)} programmed, {len(res.compensated)} after compensation")
+    print(f"moves: {len(res.programmed)} programmed, {len(res.compensated)} after "
+          f"compensation")
     print(f"commands: {len(res.motion.commands)} motion commands with their PROFILEs, "
           f"{len(res.motion.pauses)} dwell pauses")
     print(f"lattice moves: {len(res.lattice)}")
