@@ -23,7 +23,7 @@
 //     results registered (past_exit_q, past_stop_q);
 //   * the exit staircase starts at the cruise speed on a clock with
 //     past_exit_q (or past_stop_q with the next profile missing and a
-//     non-zero exit speed: the dry queue, sticky flag dry) and steps down by
+//     non-zero exit speed: the dry queue; its first step sets the sticky dry) and steps down by
 //     accel on each clock that starts with its remainder ramp_left_q
 //     negative, down to the exit speed (to the creep speed accel when the
 //     exit speed is 0 or the queue is dry); the remainder falls by the gain
@@ -344,7 +344,9 @@ module halfpoint_profile #(
     // two bits are 10
     wire          left_under = left_sum[RW-1] && !left_sum[RW-2];
     wire [RW-1:0] ramp_left_n = left_under ? {2'b11, {(RW-2){1'b0}}} : left_sum;
-    wire          dry_now = cur_valid_q && ramp_on_n && ramp_dry_n;
+    // dry is set when the dry staircase steps down (not when a next profile
+    // arrives before its first step)
+    wire          dry_now = cur_valid_q && ramp_on_n && ramp_dry_n && ramp_step;
 
     // ------------------------------------------------------------------
     // Target of the next clock: the least of the override on the cruise

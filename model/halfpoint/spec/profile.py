@@ -85,7 +85,8 @@ of this clock and used on the next one:
   segment's first clock).
 * the exit staircase (``_ramp``): a speed limit that starts at the segment's peak
   on a clock with ``past_exit`` (or ``past_stop`` while the next profile is not
-  available and the exit speed is not 0: the dry queue, sticky flag ``dry``) and
+  available and the exit speed is not 0: the dry queue; its first step sets the
+  sticky flag ``dry``) and
   steps down by ``accel`` on each clock that starts with its remainder
   ``ramp_left`` negative (the sign of a register), down to the exit speed (to the
   creep speed, one speed step, when the exit speed is 0 or the queue is dry, so
@@ -293,7 +294,7 @@ class ProfileView:
     ramp_step: bool = False     # it steps down at this edge
     ramp_v: int = 0         # its speed after this edge
     ramp_dry: bool = False  # it heads for the creep speed (dry queue) after this edge
-    dry_now: bool = False   # the dry condition started or keeps the staircase
+    dry_now: bool = False   # the dry staircase steps down at this edge (sets dry)
     ramp_left: int = 0      # the staircase's distance to its next step after this edge
     credit: int = 0         # credit after this edge (while a segment is current)
     gain: int = 0           # the earned distance grows by this at this edge
@@ -402,7 +403,10 @@ class ProfileStage:
         left = max(left, -ramp_left_floor(div))
         w.ramp_on, w.ramp_dry, w.ramp_step, w.ramp_v = on, dry_mode, step, ramp_v
         w.ramp_left = left if on else 0
-        w.dry_now = bool(on and dry_mode)
+        # the flag: the dry staircase really came down (a next profile arriving before
+        # its first step, as at a program's start while the second segment is still
+        # being validated, leaves no trace)
+        w.dry_now = bool(on and dry_mode and step)
 
     def view(self, i: ProfileInputs) -> ProfileView:
         w = ProfileView()
