@@ -131,7 +131,7 @@ def _sg_advance(sg, c: StepCfg, k: int) -> None:
                 if sg.state == S_SETUP:
                     sg.state, sg.cnt = S_HIGH, steplen
                 else:
-                    sg.state, sg.low_t = S_LOW, 1
+                    sg.state, sg.low_t, sg.cnt = S_LOW, 1, min(sg.cnt, 1)
     sg.sp_ok = int(sg.low_t >= c.stepspace)
     sg.dh_ok = int(sg.low_t >= c.dirhold)
 
@@ -178,17 +178,35 @@ def _static(m: CoreModel, more: bool):
     return running
 
 
+def _target_next(st, cur, hold: int) -> int:
+    """``ProfileStage._next_target`` of a quiet clock (the registers it reads constant)."""
+    if cur is None or hold:
+        return 0
+    target = min(st.ov_target, cur.v_cruise << pf.SPEED_SHIFT)
+    if st.ramp_on:
+        target = min(target, st.ramp_v)
+    return target
+
+
 def _stage_clocks(m: CoreModel, running, more: bool, hold: int, ovq: int, limit: int) -> int:
     """Number of clocks from now (at most ``limit``) over which the profile stage is
     quiet (module docstring), 0 if this clock is not; the STEP/DIR generators follow
-    in closed form (no requests without pops)."""
+    in closed form (no requests without pops).  The stage's registered decisions
+    (target, credit at its cap, past d_exit / d_stop, the override's product) must be
+    settled or, for the compares, found by the same closed forms."""
     st = m.stage
     if st.ov_q != ovq:
         return 0
-    k = limit
+    prod = ((st.v_cruise << pf.SPEED_SHIFT) * st.ov_q) >> 7
+    if st.ov_prod != prod or st.ov_target != prod:
+        return 0
     cur = st.cur
+    if st.target != _target_next(st, cur, hold):
+        return 0
+    k = limit
     if cur is None:
-        if st.v or st.ramp_on or st.ramp_dry or st.ramp_v or st.ramp_left or m.profiles:
+        if st.v or st.ramp_on or st.ramp_dry or st.ramp_v or st.ramp_left or m.profiles \
+                or st.full or st.past_exit or st.past_stop:
             return 0
         busy = m.queue or m.inflight is not None or running is not None \
             or m.arc.vstate != V_IDLE or m.line.vstate != L_IDLE or m.moves
@@ -196,31 +214,33 @@ def _stage_clocks(m: CoreModel, running, more: bool, hold: int, ovq: int, limit:
             return 0                    # run_program counts idle clocks here
         return k
     cap = (cur.largest_cost() << pf.COST_SHIFT) << 1
-    c0, v = st.credit, st.v
-    if c0 > cap:
-        return 0
+    c0 = st.credit
+    if st.full:
+        if c0 < cap:
+            return 0
+        v = 0                           # at its cap: no gain, stays full
+    else:
+        v = st.v
+        k = min(k, _first_reach(c0, v, NEVER, cap))
     dry_cond = not m.profiles and cur.v_exit
+    sh = pf.COST_SHIFT
     # the exit staircase
     if not st.ramp_on:
-        if st.ramp_left:
+        if st.ramp_left or st.past_exit or (st.past_stop and dry_cond):
             return 0
-        k = min(k, _first_reach(c0, v, cap, max(cur.d_exit - st.s, 0) << pf.COST_SHIFT))
+        k = min(k, _first_reach(c0, v, NEVER, max(cur.d_exit - st.s, 0) << sh) + 1)
         if dry_cond:
-            k = min(k, _first_reach(c0, v, cap, max(cur.d_stop - st.s, 0) << pf.COST_SHIFT))
+            k = min(k, _first_reach(c0, v, NEVER, max(cur.d_stop - st.s, 0) << sh) + 1)
     else:
-        if st.ramp_dry and not dry_cond:
+        if (st.ramp_dry and not dry_cond) or st.ramp_left < 0:
             return 0
-        k = min(k, max(_first_reach(c0, v, cap, c0 + st.ramp_left) - 1, 0))
+        k = min(k, _first_reach(c0, v, NEVER, c0 + st.ramp_left + 1))
     if k == 0:
         return 0
     # the speed: a step when the target differs and the cadence allows it
-    target = ((cur.v_cruise << pf.SPEED_SHIFT) * st.ov_q) >> 7
-    if st.ramp_on:
-        target = min(target, st.ramp_v)
-    if hold:
-        target = 0
-    if target != v:
-        direction = 1 if target > v else -1
+    target = st.target
+    if target != st.v:
+        direction = 1 if target > st.v else -1
         if st.last_dir != direction or st.since >= st.tick:
             return 0
         k = min(k, st.tick - st.since)
@@ -228,7 +248,7 @@ def _stage_clocks(m: CoreModel, running, more: bool, hold: int, ovq: int, limit:
     if m.moves:
         head = m.moves[0]
         cost = pf.move_cost(head.cost_class, cur)
-        jc = _first_reach(c0, v, cap, cost << pf.COST_SHIFT)
+        jc = _first_reach(c0, v, NEVER, cost << sh)
         if jc < k:
             jr = 0
             for s, sg, c in zip(head.steps, m.stepgens, m.cfg):
@@ -241,13 +261,18 @@ def _stage_clocks(m: CoreModel, running, more: bool, hold: int, ovq: int, limit:
 def _skip_stage(m: CoreModel, k: int) -> None:
     """Apply ``k`` quiet clocks of the profile stage in closed form."""
     st = m.stage
-    if st.cur is not None:
-        cap = (st.cur.largest_cost() << pf.COST_SHIFT) << 1
-        credit = min(st.credit + k * st.v, cap)
+    cur = st.cur
+    if cur is not None:
+        v = 0 if st.full else st.v
+        last = st.credit + (k - 1) * v          # the credit of the last clock
+        credit = last + v
+        sh = pf.COST_SHIFT
+        earned = st.s + (last >> sh)
+        st.full = last >= (cur.largest_cost() << sh) << 1
+        st.past_exit, st.past_stop = earned >= cur.d_exit, earned >= cur.d_stop
         if st.ramp_on:
-            st.ramp_left -= credit - st.credit
-            if st.ramp_dry:
-                st.dry = 1
+            st.ramp_left = max(st.ramp_left - (credit - st.credit),
+                               -pf.ramp_left_floor(st.div))
         st.credit = credit
     st.since = min(st.since + k, st.tick)
 
@@ -270,7 +295,8 @@ def _try_pop(m: CoreModel, hold: int, ovq: int) -> bool:
     not its segment's last, the staircase neither starts nor steps and the speed
     does not step; then the move queue, STEP/DIR requests and positions.  False
     (nothing changed) when the clock is anything else: it then runs exactly."""
-    st = m.stage
+    return False            # the popping edge runs exactly (spec.profile changed: see
+    st = m.stage            # the report; the lean pop below is the former spec's)
     cur = st.cur
     if cur is None or not m.moves or st.ov_q != ovq:
         return False
