@@ -12,9 +12,12 @@ after reset, a move made by the edge ending cycle c is seen (``move`` high) in c
 c + 1, and a hold interval (A, B) drives ``hold`` high in cycles A .. B - 1.
 
 Method: the exact ``CoreModel`` runs clock by clock whenever something discrete
-happens; at the start of each cycle ``_quiet_clocks`` checks whether the core is in a
-stretch where only accumulators evolve, and if so computes in closed form the number
-k of clocks before the next event and applies them at once (``_skip``).  A stretch is
+happens; at the start of each cycle ``_static`` and ``_stage_clocks`` check whether the
+core is in a stretch where only accumulators evolve, and if so compute in closed form
+the number k of clocks before the next event and apply them at once (``_skip``); an
+edge where only the running unit fills the move queue (or the move strobe clears)
+runs through the specification's own unit section with the stage in closed form
+(``_lean_clock``).  A stretch is
 quiet when, on every one of its clocks:
 
 * no beat enters the command queue (it is full, or the program is all in) and the
@@ -24,20 +27,22 @@ quiet when, on every one of its clocks:
   or the move queue is full), and no profile enters the profile queue;
 * the profile stage pops no move (its credit does not cover the head move's cost, or
   the STEP/DIR generators the head move needs are not ready yet), takes no profile,
-  makes no speed step (the speed equals its target, or the cadence counter has not
-  reached a tick since a step in the same direction), its exit staircase neither
-  starts (the earned distance below d_exit, and below d_stop while the queue is dry)
-  nor steps (its distance to the next step not covered by this clock's gain);
-* the hold input does not change and the registered override is already the input.
+  makes no speed step (the speed equals its registered target, or the cadence counter
+  has not reached a tick since a step in the same direction), its exit staircase
+  neither starts (the registered compares past d_exit / past d_stop low) nor steps
+  (its remainder not negative), its credit does not reach the cap;
+* the hold input does not change and the override's pipeline (registered override,
+  product, target) and the registered target have settled.
 
-In such a stretch the credit grows by v per clock up to its cap, the staircase's
-distance to its next step shrinks by the same gains, the cadence counter counts up
+In such a stretch the credit grows by v per clock (or stays at its cap), the
+staircase's remainder shrinks by the same gains, the compares of the earned distance
+s + credit with d_exit and d_stop register a clock late, the cadence counter counts up
 to a tick (saturating), and each STEP/DIR generator counts its timers without
 requests (SETUP -> HIGH -> LOW, low_t saturating; ``_sg_advance``).  The events are
 found from those closed forms: the clock whose credit first covers a bound X is
-ceil((X - credit) / v) (``_first_reach``), the staircase steps on the first clock
-whose gain covers its distance left, i.e. the first clock j with credit(j + 1) >=
-credit(0) + ramp_left, and the head move pops on the first clock that both covers
+ceil((X - credit) / v) (``_first_reach``), the staircase starts the clock after the
+earned distance reaches d_exit, steps on the first clock j with credit(j) > credit(0)
++ ramp_left, and the head move pops on the first clock that both covers
 its cost and has every axis it steps ready (readiness only grows without requests:
 ``_sg_ready_at``).  The clock of each event then runs exactly.  ``spec.core``,
 ``spec.profile`` and ``spec.stepgen`` stay the specification: this module only reads
@@ -292,55 +297,52 @@ def _try_pop(m: CoreModel, hold: int, ovq: int) -> bool:
     """The edge of this clock when it pops the head move and does nothing else
     (the caller checked ``_static`` and that no unit produces): the stage's view of a
     pop written out (``ProfileStage.view`` / ``clock``), taken only when the move is
-    not its segment's last, the staircase neither starts nor steps and the speed
-    does not step; then the move queue, STEP/DIR requests and positions.  False
+    not its segment's last, the staircase neither starts nor steps, the speed does
+    not step and the registered target and override pipeline have settled; then the move queue, STEP/DIR requests and positions.  False
     (nothing changed) when the clock is anything else: it then runs exactly."""
-    return False            # the popping edge runs exactly (spec.profile changed: see
-    st = m.stage            # the report; the lean pop below is the former spec's)
+    st = m.stage
     cur = st.cur
     if cur is None or not m.moves or st.ov_q != ovq:
+        return False
+    prod = ((st.v_cruise << pf.SPEED_SHIFT) * st.ov_q) >> 7
+    if st.ov_prod != prod or st.ov_target != prod or st.target != _target_next(st, cur, hold):
         return False
     head = m.moves[0]
     if head.last:
         return False
+    sh = pf.COST_SHIFT
     cost = pf.move_cost(head.cost_class, cur)
     credit, v = st.credit, st.v
-    if (credit >> pf.COST_SHIFT) < cost:
+    if (credit >> sh) < cost:
         return False
     for s, sg, c in zip(head.steps, m.stepgens, m.cfg):
         if s and not sg._ready(c, int(s > 0)):
             return False
-    spent = cost << pf.COST_SHIFT
-    cap = (cur.largest_cost() << pf.COST_SHIFT) << 1
-    new_credit = min(credit + v - spent, cap)
-    gain = new_credit - (credit - spent)
+    gain = 0 if st.full else v
+    new_credit = credit - (cost << sh) + gain
     dry_cond = not m.profiles and cur.v_exit
-    earned = st.s + (credit >> pf.COST_SHIFT)
     left = 0
     if not st.ramp_on:
-        if earned >= cur.d_exit or (earned >= cur.d_stop and dry_cond) or st.ramp_left:
+        if st.past_exit or (st.past_stop and dry_cond) or st.ramp_left:
             return False
     else:
-        if (st.ramp_dry and not dry_cond) or st.ramp_left <= gain:
+        if (st.ramp_dry and not dry_cond) or st.ramp_left < 0:
             return False
-        left = st.ramp_left - gain
-    target = ((cur.v_cruise << pf.SPEED_SHIFT) * st.ov_q) >> 7
-    if st.ramp_on:
-        target = min(target, st.ramp_v)
-    if hold:
-        target = 0
+        left = max(st.ramp_left - gain, -pf.ramp_left_floor(st.div))
+    target = st.target
     if target > v and (st.last_dir != 1 or st.since >= st.tick):
         return False
     if target < v and (st.last_dir != -1 or st.since >= st.tick):
         return False
+    earned = st.s + (credit >> sh)
+    st.full = credit >= (cur.largest_cost() << sh) << 1
+    st.past_exit, st.past_stop = earned >= cur.d_exit, earned >= cur.d_stop
     # the edge
     if st.since < st.tick:
         st.since += 1
     st.credit = new_credit
     st.s += cost
     st.ramp_left = left
-    if st.ramp_on and st.ramp_dry:
-        st.dry = 1
     m.moves.pop(0)
     width = m.width
     for axis, (s, sg, c) in enumerate(zip(head.steps, m.stepgens, m.cfg)):
