@@ -501,6 +501,8 @@ def plate_job(scale: int = 1):
             body.append(enc.encode_arc(0, i, j, x, y, True))
         for k in range(8):
             body.append(enc.encode_line((1500, 300 * (-1) ** k, 0), True))
+    if body:                        # the program's last segment ends it (no CONT)
+        body[-1] = enc.encode_line((1500, -300, 0), False)
     feeds = [10.0, 100.0, 60.0, 25.0, 100.0, 40.0]
 
     def speed(k):
