@@ -292,9 +292,9 @@ module halfpoint_core #(
     localparam [INDEX_W:0]   QUEUE_FULL = {1'b1, {INDEX_W{1'b0}}};     // DEPTH
     localparam [INDEX_W-1:0] INDEX_ONE = {{(INDEX_W-1){1'b0}}, 1'b1};
     localparam [INDEX_W:0]   COUNT_ONE = {{INDEX_W{1'b0}}, 1'b1};
-    wire               stage_rest;  // the profile stage's speed is 0
+    wire               stage_stopped;  // stop at rest (the profile stage)
 
-    assign s_axis_tready = (count_q != QUEUE_FULL) && !abort_now && !(stop && stage_rest);
+    assign s_axis_tready = (count_q != QUEUE_FULL) && !abort_now && !stage_stopped;
     assign queue_level   = count_q;
 
     always @(posedge clk) begin
@@ -581,7 +581,7 @@ module halfpoint_core #(
     // ------------------------------------------------------------------
     wire [NA-1:0] ready_pos, ready_neg, stepgen_busy;
     wire          steps_ready = &(~head_step | (head_dir & ready_pos) | (~head_dir & ready_neg));
-    wire          stage_stopped, stage_holding, stage_busy;
+    wire          stage_holding, stage_busy;
     wire          unused_holding = stage_holding;
 
     halfpoint_profile #(
@@ -614,7 +614,6 @@ module halfpoint_core #(
         .busy           (stage_busy)
     );
 
-    assign stage_rest = (speed == 38'd0);
     assign flush = abort_now || stage_stopped;
     // the move made at this edge (none on a flush edge)
     wire go = stage_pop && !flush;

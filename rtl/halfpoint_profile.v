@@ -187,7 +187,10 @@ module halfpoint_profile #(
     // ------------------------------------------------------------------
     // Pop, take, stop, hold (ProfileStage.view)
     // ------------------------------------------------------------------
-    wire          v_zero = (v_q == 38'd0);
+    // v_q == 0, registered with v_q (so that stop / hold at rest, which the core
+    // fans out to its flush, start from a flip-flop)
+    reg           v_zero_q;
+    wire          v_zero = v_zero_q;
     wire          at_rest_stop = stop && v_zero;
     reg  [17:0]   cost;             // of the head move (classes above 2 cost a line)
     always @(*) begin
@@ -430,6 +433,7 @@ module halfpoint_profile #(
             v_cruise_q  <= 32'd0;
             accel_q     <= 34'd0;
             v_q         <= 38'd0;
+            v_zero_q    <= 1'b1;
             target_q    <= 38'd0;
             credit_q    <= 42'd0;
             gain_q      <= 38'd0;
@@ -450,6 +454,7 @@ module halfpoint_profile #(
         end else begin
             // speed and its cadence; no segment after this edge: the speed is 0
             v_q <= v_next;
+            v_zero_q <= (v_next == 38'd0);
             gain_q <= (same_segment && at_cap) ? 38'd0 : v_next;
             target_q <= target_n;
             if (step_up || step_down) begin
