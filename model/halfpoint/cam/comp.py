@@ -992,6 +992,8 @@ def to_gcode(moves: list[Move]) -> str:
             out.append(f"G1 X{_num(x)} Y{_num(y)} Z{_num(z)}{fw}")
         else:
             i, j = m.center[0] - m.start[0], m.center[1] - m.start[1]
-            out.append(f"{'G2' if m.cw else 'G3'} X{_num(x)} Y{_num(y)} I{_num(i)} J{_num(j)}{fw}")
+            zw = f" Z{_num(z)}" if m.end[2] != m.start[2] else ""
+            out.append(f"{'G2' if m.cw else 'G3'} X{_num(x)} Y{_num(y)}{zw} I{_num(i)} J{_num(j)}"
+                       f"{fw}")
     out.append("M2")
     return "\n".join(out) + "\n"

@@ -337,6 +337,10 @@ def quantise(moves: list[Move], blu=(DEFAULT_BLU,) * 3, width: int = 32,
         if m.kind == "arc":
             if m.plane != 17:
                 raise GcodeError(m.lineno, "the core interpolates arcs in the XY plane (G17) only")
+            if abs(m.end[2] - m.start[2]) > 1e-12:
+                # never flattened silently: the Z change would land on the next move
+                raise GcodeError(m.lineno, "helical arc: the core interpolates flat XY arcs only "
+                                           "(helices in hardware are issue 14, item 2)")
             sag = _flat(m)
             if sag is None or sag >= 0.25 * bx:
                 # the arc on the lattice is placed against the programmed absolute
