@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import math
 import subprocess
+from pathlib import Path
 import sys
 
 import pytest
@@ -57,9 +58,19 @@ def test_fitted_ellipse_runs_end_to_end(tmp_path, engine):
                         "--tol", "0.01", "--full"], capture_output=True, text=True)
     assert g.returncode == 0, g.stderr
     prog = tmp_path / "ellipse.ngc"
-    prog.write_text(g.stdout)
+    # at the machine's speed (the fit writes F600), so that the RTL run stays short
+    prog.write_text(g.stdout.replace("F600", "F240000"))
+    # the shipped simulation machine with a 2 um lattice (its speeds scaled to match)
+    sim = (Path(__file__).resolve().parents[2] / "examples" / "machine_sim.toml").read_text()
+    machine = tmp_path / "machine.toml"
+    machine.write_text(sim.replace("blu_mm = 0.01 ", "blu_mm = 0.002")
+                       .replace("blu_mm = 0.01\n", "blu_mm = 0.002\n")
+                       .replace("max_velocity_mm_s = 20000.0", "max_velocity_mm_s = 4000.0")
+                       .replace("max_velocity_mm_s = 10000.0", "max_velocity_mm_s = 2000.0")
+                       .replace("max_accel_mm_s2 = 20000000.0", "max_accel_mm_s2 = 4000000.0")
+                       .replace("max_accel_mm_s2 = 10000000.0", "max_accel_mm_s2 = 2000000.0"))
     r = subprocess.run([sys.executable, "-m", "halfpoint", "run", str(prog), "--engine", engine,
-                        "--blu", "0.002"], capture_output=True, text=True)
+                        "--machine", str(machine)], capture_output=True, text=True)
     assert r.returncode == 0, r.stderr
     final = next(ln for ln in r.stdout.splitlines() if ln.startswith("final position:"))
     x, y, _ = (float(v) for v in final.split(":")[1].replace("mm", "").split(","))

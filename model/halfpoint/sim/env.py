@@ -62,16 +62,25 @@ def run_cocotb(
     log = build_dir / "build.log" if quiet else None
     if log is not None:
         build_dir.mkdir(parents=True, exist_ok=True)
-    runner.build(
-        sources=sources,
-        includes=[RTL],             # rtl/halfpoint_cmd.vh, the generated command layout
-        hdl_toplevel=toplevel,
-        parameters=parameters,
-        build_dir=build_dir,
-        build_args=["--x-assign", "0", "--x-initial", "0"],
-        waves=waves,
-        log_file=log,
-    )
+    def build():
+        runner.build(
+            sources=sources,
+            includes=[RTL],             # rtl/halfpoint_cmd.vh, the generated command layout
+            hdl_toplevel=toplevel,
+            parameters=parameters,
+            build_dir=build_dir,
+            build_args=["--x-assign", "0", "--x-initial", "0"],
+            waves=waves,
+            log_file=log,
+        )
+    try:
+        build()
+    except RuntimeError:
+        # Verilator's generated makefile can, under make -j, compile a *_Slow object
+        # before its precompiled header exists ("Vtop__pch.h.slow: linker input file not
+        # found"); make resumes where it stopped, so one more try; a real error fails
+        # again the same way
+        build()
     results = runner.test(
         hdl_toplevel=toplevel,
         test_module=test_module,
