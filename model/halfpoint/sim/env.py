@@ -62,25 +62,19 @@ def run_cocotb(
     log = build_dir / "build.log" if quiet else None
     if log is not None:
         build_dir.mkdir(parents=True, exist_ok=True)
-    def build():
-        runner.build(
-            sources=sources,
-            includes=[RTL],             # rtl/halfpoint_cmd.vh, the generated command layout
-            hdl_toplevel=toplevel,
-            parameters=parameters,
-            build_dir=build_dir,
-            build_args=["--x-assign", "0", "--x-initial", "0"],
-            waves=waves,
-            log_file=log,
-        )
-    try:
-        build()
-    except RuntimeError:
-        # Verilator's generated makefile can, under make -j, compile a *_Slow object
-        # before its precompiled header exists ("Vtop__pch.h.slow: linker input file not
-        # found"); make resumes where it stopped, so one more try; a real error fails
-        # again the same way
-        build()
+    runner.build(
+        sources=sources,
+        includes=[RTL],             # rtl/halfpoint_cmd.vh, the generated command layout
+        hdl_toplevel=toplevel,
+        parameters=parameters,
+        build_dir=build_dir,
+        # --output-split 0: one C++ file per kind, so no parallel build with precompiled
+        # headers, which the PyPI wheel's verilated.mk gets wrong (CFG_CXXFLAGS_PCH_I is
+        # empty there: "Vtop__pch.h.fast: linker input file not found" on large designs)
+        build_args=["--x-assign", "0", "--x-initial", "0", "--output-split", "0"],
+        waves=waves,
+        log_file=log,
+    )
     results = runner.test(
         hdl_toplevel=toplevel,
         test_module=test_module,
