@@ -228,7 +228,25 @@ async def interpolators_run_ahead(dut):
     assert bench.last["underrun"] == 0
     # with one profile queued the look-ahead is one segment: shorter than the
     # stopping distance, the next one is not validated in time (dry, as planned)
-    assert bench.last["dry"] == (0 if PROFILE_DEPTH >= 2 else bench.last["dry"])
+    if PROFILE_DEPTH >= 2:
+        assert bench.last["dry"] == 0
+
+
+async def start_interrupted_program(bench, rng):
+    """Send a 12-segment program in the background and return once 60 moves are
+    made (for the stop and abort tests)."""
+    first = plan(rng, [random_arc(rng, rmin=10, rmax=30) if k % 2
+                       else random_line(rng, NA, scale=40) for k in range(12)], 0.2, 0.4)
+    cocotb.start_soon(bench.send(first))
+    while bench.moves < 60:
+        await FallingEdge(bench.dut.clk)
+    return first
+
+
+def expected_from(cmds, start):
+    """The positions the host expects after every move of ``cmds`` run from ``start``."""
+    trace, _, _ = expect(cmds, NA, W)
+    return [tuple(wrap(a + b, W) for a, b in zip(p, start)) for p in trace]
 
 
 @cocotb.test()
@@ -240,11 +258,7 @@ async def stop_then_new_program(dut):
     rng = random.Random(SEED + 6)
     bench = new_bench(dut, cfg=random_cfg(rng), seed=SEED + 6)
     await bench.start()
-    first = plan(rng, [random_arc(rng, rmin=10, rmax=30) if k % 2
-                       else random_line(rng, NA, scale=40) for k in range(12)], 0.2, 0.4)
-    cocotb.start_soon(bench.send(first))
-    while bench.moves < 60:
-        await FallingEdge(dut.clk)
+    first = await start_interrupted_program(bench, rng)
     t = bench.cycle + 1
     bench.stop_schedule = set(range(t, t + 4000))
     while bench.cycle < t + 4000:
@@ -259,9 +273,7 @@ async def stop_then_new_program(dut):
     await bench.send([enc.encode_line([1] + [0] * (NA - 1))] + second)
     await bench.drain()
     assert [c for _, c in bench.errors[before:]] == [enc.E_PROFILE]
-    trace, _, _ = expect(second, NA, W)
-    shifted = [tuple(wrap(a + b, W) for a, b in zip(p, stopped)) for p in trace]
-    assert bench.trace == shifted
+    assert bench.trace == expected_from(second, stopped)
 
 
 @cocotb.test()
@@ -274,11 +286,7 @@ async def abort_then_new_program(dut):
     rng = random.Random(SEED + 5)
     bench = new_bench(dut, cfg=random_cfg(rng), seed=SEED + 5)
     await bench.start()
-    first = plan(rng, [random_arc(rng, rmin=10, rmax=30) if k % 2
-                       else random_line(rng, NA, scale=40) for k in range(12)], 0.2, 0.4)
-    cocotb.start_soon(bench.send(first))
-    while bench.moves < 60:
-        await FallingEdge(dut.clk)
+    first = await start_interrupted_program(bench, rng)
     t = bench.cycle + 1
     bench.abort_schedule = {t, t + 1, t + 2}
     while bench.cycle < t + 3:
@@ -293,8 +301,6 @@ async def abort_then_new_program(dut):
     bench.trace.clear()
     await bench.send(second)
     await bench.drain()
-    trace, _, _ = expect(second, NA, W)
-    shifted = [tuple(wrap(a + b, W) for a, b in zip(p, stopped)) for p in trace]
-    assert bench.trace == shifted
+    assert bench.trace == expected_from(second, stopped)
     for k, chk in enumerate(bench.checkers):
         assert wrap(chk.position, W) == bench.last["pos"][k]
