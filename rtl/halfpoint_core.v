@@ -300,6 +300,29 @@ module halfpoint_core #(
     always @(posedge clk) begin
         if (push) queue_mem[write_index_q] <= in_entry;
     end
+
+    // The head's flags, which every dispatch decision reads, come from a
+    // register that always equals the flags of queue_mem[read_index_q] while
+    // the queue is not empty: on a pop it takes the next entry's flags (a
+    // second, flags-only copy of the queue read at read_index_q + 1, or the
+    // beat pushed at the same edge when it becomes the head), so no memory
+    // read lies between read_index_q and the decisions.  The payload is data
+    // only and is still read from the memory.
+    reg  [FLAGS_W-1:0] flags_mem [0:DEPTH-1];
+    reg  [FLAGS_W-1:0] head_flags_q;
+    wire [INDEX_W-1:0] read_index_next = read_index_q + INDEX_ONE;
+    always @(posedge clk) begin
+        if (push) flags_mem[write_index_q] <= in_flags;
+    end
+    always @(posedge clk) begin
+        if (pop) begin
+            // count_q >= 2: the next entry is in the memory; count_q == 1:
+            // the queue empties unless a beat is pushed at this edge
+            head_flags_q <= (count_q != COUNT_ONE) ? flags_mem[read_index_next] : in_flags;
+        end else if (count_q == {(INDEX_W+1){1'b0}}) begin
+            head_flags_q <= in_flags;
+        end
+    end
     always @(posedge clk) begin
         if (rst || flush) begin
             write_index_q <= {INDEX_W{1'b0}};
@@ -315,16 +338,17 @@ module halfpoint_core #(
 
     // the queue head, decoded
     wire [ENTRY_W-1:0]   head = queue_mem[read_index_q];
-    wire                 head_arc     = head[0];
-    wire                 head_cw      = head[1];
-    wire                 head_line    = head[2];
-    wire                 head_cont    = head[3];
-    wire                 head_bad_opcode = head[4];
-    wire                 head_bad_fit = head[5];
-    wire                 head_nop     = head[6];
-    wire                 head_profile = head[7];
-    wire                 head_bad_profile = head[8];
+    wire                 head_arc     = head_flags_q[0];
+    wire                 head_cw      = head_flags_q[1];
+    wire                 head_line    = head_flags_q[2];
+    wire                 head_cont    = head_flags_q[3];
+    wire                 head_bad_opcode = head_flags_q[4];
+    wire                 head_bad_fit = head_flags_q[5];
+    wire                 head_nop     = head_flags_q[6];
+    wire                 head_profile = head_flags_q[7];
+    wire                 head_bad_profile = head_flags_q[8];
     wire [PAYLOAD_W-1:0] head_payload = head[ENTRY_W-1:FLAGS_W];
+    wire [FLAGS_W-1:0]   unused_head_flags = head[FLAGS_W-1:0];
 
     // ------------------------------------------------------------------
     // Dispatcher
@@ -434,7 +458,8 @@ module halfpoint_core #(
         .nx_dir    (line_next_dir)
     );
 
-    wire unused_ok = &{1'b0, unused_arc_move, unused_arc_step_x, unused_arc_step_y,
+    wire unused_ok = &{1'b0, unused_head_flags, unused_arc_move, unused_arc_step_x,
+                       unused_arc_step_y,
                        unused_arc_dir_x, unused_arc_dir_y, unused_arc_done, unused_line_move,
                        unused_line_done, unused_arc_x, unused_arc_y, unused_arc_f,
                        unused_line_step, unused_line_dir, line_error};
@@ -511,6 +536,20 @@ module halfpoint_core #(
     always @(posedge clk) begin
         if (produce && !flush) move_mem[move_write_q] <= produce_entry;
     end
+
+    // The head move, which the profile stage's pop decision reads, comes from
+    // a register equal to move_mem[move_read_q] while the queue is not empty:
+    // on a pop it takes the next entry (or the move produced at that edge
+    // when it becomes the head), so no memory read lies in front of the pop.
+    reg [MOVE_W-1:0] move_head_q;
+    always @(posedge clk) begin
+        if (stage_pop) begin
+            move_head_q <= (move_count_q != MOVE_COUNT_ONE) ? move_mem[move_next(move_read_q)]
+                                                            : produce_entry;
+        end else if (move_count_q == {(MOVE_INDEX_W+1){1'b0}}) begin
+            move_head_q <= produce_entry;
+        end
+    end
     always @(posedge clk) begin
         if (rst || flush) begin
             move_write_q <= {MOVE_INDEX_W{1'b0}};
@@ -524,7 +563,7 @@ module halfpoint_core #(
         end
     end
 
-    wire [MOVE_W-1:0] move_head = move_mem[move_read_q];
+    wire [MOVE_W-1:0] move_head = move_head_q;
     wire              move_valid = (move_count_q != {(MOVE_INDEX_W+1){1'b0}});
     wire [NA-1:0]     head_step = move_head[NA-1:0];
     wire [NA-1:0]     head_dir  = move_head[2*NA-1:NA];
