@@ -34,6 +34,8 @@
 `define HALFPOINT_FLAG_CONT_BIT               8
 //   velocity profile of the motion commands that follow
 `define HALFPOINT_OP_PROFILE                  4'd4
+//   spindle, laser and coolant outputs, once everything before has moved
+`define HALFPOINT_OP_OUTPUT                   4'd5
 
 // line: signed delta of axis k in bits CMD_DELTA_LSB + k * CMD_DELTA_STRIDE +: CMD_DELTA_WIDTH
 `define HALFPOINT_CMD_DELTA_LSB               64
@@ -63,6 +65,24 @@
 `define HALFPOINT_CMD_PROFILE_D_EXIT_WIDTH    54
 `define HALFPOINT_CMD_PROFILE_D_STOP_LSB      202
 `define HALFPOINT_CMD_PROFILE_D_STOP_WIDTH    54
+
+// output fields (unsigned; spec/outputs.py gives their meaning)
+`define HALFPOINT_CMD_OUTPUT_POWER_LSB        32
+`define HALFPOINT_CMD_OUTPUT_POWER_WIDTH      17
+`define HALFPOINT_CMD_OUTPUT_ENABLE_LSB       49
+`define HALFPOINT_CMD_OUTPUT_ENABLE_WIDTH     1
+`define HALFPOINT_CMD_OUTPUT_REVERSE_LSB      50
+`define HALFPOINT_CMD_OUTPUT_REVERSE_WIDTH    1
+`define HALFPOINT_CMD_OUTPUT_LASER_LSB        51
+`define HALFPOINT_CMD_OUTPUT_LASER_WIDTH      1
+`define HALFPOINT_CMD_OUTPUT_DYNAMIC_LSB      52
+`define HALFPOINT_CMD_OUTPUT_DYNAMIC_WIDTH    1
+`define HALFPOINT_CMD_OUTPUT_MIST_LSB         53
+`define HALFPOINT_CMD_OUTPUT_MIST_WIDTH       1
+`define HALFPOINT_CMD_OUTPUT_FLOOD_LSB        54
+`define HALFPOINT_CMD_OUTPUT_FLOOD_WIDTH      1
+//   output power of a 100 % duty; above it the command is rejected (E_FIELD)
+`define HALFPOINT_OUTPUT_POWER_FULL           65536
 //   d_exit, d_stop < 2^(W + PROFILE_DISTANCE_EXTRA) in a core of width W
 `define HALFPOINT_PROFILE_DISTANCE_EXTRA      19
 
@@ -76,6 +96,9 @@
 //   of a profile command
 `define HALFPOINT_CMD_RESERVED_PROFILE \
     256'h00000000000000000000000000000000000000000000000000000000fffffff0
+//   of an output command
+`define HALFPOINT_CMD_RESERVED_OUTPUT \
+    256'hffffffffffffffffffffffffffffffffffffffffffffffffff800000fffffff0
 
 // error codes of the core (err_code output)
 `define HALFPOINT_ERR_CODE_BITS               4
@@ -83,7 +106,7 @@
 `define HALFPOINT_E_NONE                      4'd0
 //   unknown opcode or reserved bits set
 `define HALFPOINT_E_OPCODE                    4'd1
-//   coordinate does not fit the core's width
+//   coordinate does not fit the core's width, or output power above 100 %
 `define HALFPOINT_E_FIELD                     4'd2
 //   arc radius is zero
 `define HALFPOINT_E_ARC_RADIUS                4'd3

@@ -29,6 +29,12 @@
 // generator ready for its direction; it takes the next profile at the edge of
 // the current segment's last move.
 //
+// An OUTPUT command (spindle, laser and coolant settings) waits at the queue
+// head until everything before it has moved (nothing in flight, both units
+// idle, the move and profile queues empty, the profile stage idle), then loads
+// halfpoint_outputs at that edge; abort and a stop at rest switch the outputs
+// off.
+//
 // hold (level) decelerates along the path to rest and waits; releasing it
 // accelerates back to the plan.  stop (level) decelerates to rest, then every
 // edge at rest while it is high drops the queue, the command in flight, both
@@ -69,7 +75,9 @@ module halfpoint_core #(
     // move queue depth in moves, 2..16
     parameter integer MOVE_DEPTH    = 4,
     // profile queue depth in segments, 1..8
-    parameter integer PROFILE_DEPTH = 2
+    parameter integer PROFILE_DEPTH = 2,
+    // spindle/laser PWM period of 2^PWM_BITS clocks, 4..16 (10: 48.8 kHz at 50 MHz)
+    parameter integer PWM_BITS      = 10
 ) (
     input  wire                           clk,
     input  wire                           rst,
@@ -108,6 +116,17 @@ module halfpoint_core #(
      */
     output wire [NA-1:0]                  step_pin,
     output wire [NA-1:0]                  dir_pin,
+
+    /*
+     * Spindle, laser and coolant outputs (OUTPUT commands; halfpoint_outputs)
+     */
+    output wire                           spindle_enable,
+    // counter-clockwise (M4 outside laser mode)
+    output wire                           spindle_reverse,
+    // duty = the OUTPUT's power (laser M4: times speed / cruise speed)
+    output wire                           spindle_pwm,
+    output wire                           coolant_mist,
+    output wire                           coolant_flood,
 
     /*
      * Status
@@ -151,6 +170,9 @@ module halfpoint_core #(
         end
         if (PROFILE_DEPTH < 1 || PROFILE_DEPTH > 8) begin : g_bad_profile_depth
             halfpoint_core_illegal_parameter_PROFILE_DEPTH_must_be_1_to_8 u_bad ();
+        end
+        if (PWM_BITS < 4 || PWM_BITS > 16) begin : g_bad_pwm_bits
+            halfpoint_core_illegal_parameter_PWM_BITS_must_be_4_to_16 u_bad ();
         end
     endgenerate
 
@@ -225,6 +247,17 @@ module halfpoint_core #(
     wire        arc_fits = fits(arc_i) && fits(arc_j) && fits(arc_x) && fits(arc_y) &&
                            fits(arc_xs) && fits(arc_ys) && fits(arc_xe) && fits(arc_ye);
 
+    // output fields: power at most 100 % (else E_FIELD); the flags
+    localparam integer OUTPUT_W = `HALFPOINT_CMD_OUTPUT_POWER_WIDTH + 6;
+    wire [`HALFPOINT_CMD_OUTPUT_POWER_WIDTH-1:0] output_power =
+        cmd[`HALFPOINT_CMD_OUTPUT_POWER_LSB +: `HALFPOINT_CMD_OUTPUT_POWER_WIDTH];
+    wire output_fits = (output_power <= `HALFPOINT_OUTPUT_POWER_FULL);
+    wire [OUTPUT_W-1:0] in_output = {
+        cmd[`HALFPOINT_CMD_OUTPUT_FLOOD_LSB], cmd[`HALFPOINT_CMD_OUTPUT_MIST_LSB],
+        cmd[`HALFPOINT_CMD_OUTPUT_DYNAMIC_LSB], cmd[`HALFPOINT_CMD_OUTPUT_LASER_LSB],
+        cmd[`HALFPOINT_CMD_OUTPUT_REVERSE_LSB], cmd[`HALFPOINT_CMD_OUTPUT_ENABLE_LSB],
+        output_power};
+
     // profile fields and their rules (else E_PROFILE_FIELD)
     wire [31:0] profile_v_cruise = cmd[`HALFPOINT_CMD_PROFILE_V_CRUISE_LSB +:
                                        `HALFPOINT_CMD_PROFILE_V_CRUISE_WIDTH];
@@ -252,14 +285,19 @@ module halfpoint_core #(
     wire is_arc_cw  = (opcode == `HALFPOINT_OP_ARC_CW);
     wire is_arc     = is_arc_cw || (opcode == `HALFPOINT_OP_ARC_CCW);
     wire is_profile = (opcode == `HALFPOINT_OP_PROFILE);
+    wire is_output  = (opcode == `HALFPOINT_OP_OUTPUT);
     wire line_reserved = ((cmd & `HALFPOINT_CMD_RESERVED_LINE) != {`HALFPOINT_CMD_BITS{1'b0}}) ||
                          line_reserved_set;
     wire arc_reserved  = ((cmd & `HALFPOINT_CMD_RESERVED_ARC) != {`HALFPOINT_CMD_BITS{1'b0}});
     wire profile_reserved =
         ((cmd & `HALFPOINT_CMD_RESERVED_PROFILE) != {`HALFPOINT_CMD_BITS{1'b0}});
-    wire bad_opcode = !(is_line || is_arc || is_profile) || (is_line && line_reserved) ||
-                      (is_arc && arc_reserved) || (is_profile && profile_reserved);
-    wire bad_fit = !bad_opcode && ((is_line && !line_fits) || (is_arc && !arc_fits));
+    wire output_reserved =
+        ((cmd & `HALFPOINT_CMD_RESERVED_OUTPUT) != {`HALFPOINT_CMD_BITS{1'b0}});
+    wire bad_opcode = !(is_line || is_arc || is_profile || is_output) ||
+                      (is_line && line_reserved) || (is_arc && arc_reserved) ||
+                      (is_profile && profile_reserved) || (is_output && output_reserved);
+    wire bad_fit = !bad_opcode && ((is_line && !line_fits) || (is_arc && !arc_fits) ||
+                                   (is_output && !output_fits));
     wire bad_profile = !bad_opcode && is_profile && !profile_rules_ok;
     wire is_nop  = !bad_opcode && !bad_fit && is_line && line_zero;
 
@@ -267,16 +305,18 @@ module halfpoint_core #(
     // end relative to the centre {ye, xe, ys, xs}, or a profile
     localparam integer MOTION_W  = (NA * W > 4 * W) ? NA * W : 4 * W;
     localparam integer PAYLOAD_W = (MOTION_W > PROFILE_W) ? MOTION_W : PROFILE_W;
-    localparam integer FLAGS_W   = 9;
+    localparam integer FLAGS_W   = 10;
     localparam integer ENTRY_W   = PAYLOAD_W + FLAGS_W;
     wire [PROFILE_W-1:0] in_profile = {profile_d_stop, profile_d_exit, profile_line_cost,
                                        profile_accel, profile_v_exit, profile_v_cruise};
     wire [PAYLOAD_W-1:0] in_payload =
         is_profile ? {{(PAYLOAD_W-PROFILE_W){1'b0}}, in_profile}
+        : is_output ? {{(PAYLOAD_W-OUTPUT_W){1'b0}}, in_output}
         : is_arc ? {{(PAYLOAD_W-4*W){1'b0}}, arc_ye[W-1:0], arc_xe[W-1:0], arc_ys[W-1:0],
                     arc_xs[W-1:0]}
         : {{(PAYLOAD_W-NA*W){1'b0}}, line_delta};
-    wire [FLAGS_W-1:0] in_flags = {bad_profile, is_profile, is_nop, bad_fit, bad_opcode,
+    wire [FLAGS_W-1:0] in_flags = {is_output, bad_profile, is_profile, is_nop, bad_fit,
+                                   bad_opcode,
                                    cmd_cont, is_line, is_arc_cw, is_arc};
     wire [ENTRY_W-1:0] in_entry = {in_payload, in_flags};
 
@@ -347,6 +387,7 @@ module halfpoint_core #(
     wire                 head_nop     = head_flags_q[6];
     wire                 head_profile = head_flags_q[7];
     wire                 head_bad_profile = head_flags_q[8];
+    wire                 head_output  = head_flags_q[9];
     wire [PAYLOAD_W-1:0] head_payload = head[ENTRY_W-1:FLAGS_W];
     wire [FLAGS_W-1:0]   unused_head_flags = head[FLAGS_W-1:0];
 
@@ -374,8 +415,11 @@ module halfpoint_core #(
     wire        arc_take  = arc_s_valid && arc_s_ready;
     wire        line_take = line_s_valid && line_s_ready;
     wire        dispatch_error = head_ok && (head_bad || no_profile);
+    // an OUTPUT runs once everything before it has moved
+    wire        downstream_idle;
+    wire        output_load = head_ok && head_output && !head_bad && downstream_idle;
     assign pop = dispatch_error || (head_ok && (head_nop || profile_load)) || arc_take ||
-                 line_take;
+                 line_take || output_load;
 
     // ------------------------------------------------------------------
     // Units
@@ -458,7 +502,9 @@ module halfpoint_core #(
         .nx_dir    (line_next_dir)
     );
 
-    wire unused_ok = &{1'b0, unused_head_flags, unused_arc_move, unused_arc_step_x,
+    wire [PWM_BITS:0] unused_duty;
+    wire unused_ok = &{1'b0, unused_head_flags, unused_duty, unused_arc_move,
+                       unused_arc_step_x,
                        unused_arc_step_y,
                        unused_arc_dir_x, unused_arc_dir_y, unused_arc_done, unused_line_move,
                        unused_line_done, unused_arc_x, unused_arc_y, unused_arc_f,
@@ -654,6 +700,35 @@ module halfpoint_core #(
     );
 
     assign flush = abort_now || stage_stopped;
+    assign downstream_idle = !arc_busy && !line_busy && !move_valid && !pq_valid && !stage_busy;
+
+    // ------------------------------------------------------------------
+    // Spindle, laser and coolant outputs
+    // ------------------------------------------------------------------
+    halfpoint_outputs #(
+        .PWM_BITS (PWM_BITS)
+    ) u_outputs (
+        .clk             (clk),
+        .rst             (rst),
+        .load            (output_load),
+        .load_power      (head_payload[`HALFPOINT_CMD_OUTPUT_POWER_WIDTH-1:0]),
+        .load_enable     (head_payload[OUTPUT_W-6]),
+        .load_reverse    (head_payload[OUTPUT_W-5]),
+        .load_laser      (head_payload[OUTPUT_W-4]),
+        .load_dynamic    (head_payload[OUTPUT_W-3]),
+        .load_mist       (head_payload[OUTPUT_W-2]),
+        .load_flood      (head_payload[OUTPUT_W-1]),
+        .off             (flush),
+        .speed           (speed),
+        .take            (stage_take),
+        .take_v_cruise   (next_profile[31:0]),
+        .spindle_enable  (spindle_enable),
+        .spindle_reverse (spindle_reverse),
+        .pwm             (spindle_pwm),
+        .coolant_mist    (coolant_mist),
+        .coolant_flood   (coolant_flood),
+        .duty            (unused_duty)
+    );
     // the move made at this edge (none on a flush edge)
     wire go = stage_pop && !flush;
 

@@ -18,21 +18,21 @@ from halfpoint.spec.program import (expect, move_count, profiled, random_arc,
                                     random_line)
 from halfpoint.spec.stepgen import StepCfg
 
-NA = W = DEPTH = TW = DIV = MOVE_DEPTH = PROFILE_DEPTH = 0   # bind() reads them
+NA = W = DEPTH = TW = DIV = MOVE_DEPTH = PROFILE_DEPTH = PWM_BITS = 0   # bind() reads them
 SEED = int(os.environ.get("HP_SEED", "1"))
 ONE = 1 << 32               # a speed field of 1 BLU per clock
 
 
 def bind(dut) -> None:
     """Take the parameters from the design under test."""
-    global NA, W, DEPTH, TW, DIV, MOVE_DEPTH, PROFILE_DEPTH
-    NA, W, DEPTH, TW, DIV, MOVE_DEPTH, PROFILE_DEPTH = read_parameters(
-        dut, "NA", "W", "DEPTH", "TW", "DIV", "MOVE_DEPTH", "PROFILE_DEPTH")
+    global NA, W, DEPTH, TW, DIV, MOVE_DEPTH, PROFILE_DEPTH, PWM_BITS
+    NA, W, DEPTH, TW, DIV, MOVE_DEPTH, PROFILE_DEPTH, PWM_BITS = read_parameters(
+        dut, "NA", "W", "DEPTH", "TW", "DIV", "MOVE_DEPTH", "PROFILE_DEPTH", "PWM_BITS")
 
 
 def new_bench(dut, cfg=None, seed=SEED):
     return CoreBench(dut, NA, W, DEPTH, TW, cfg=cfg, seed=seed, div=DIV,
-                     move_depth=MOVE_DEPTH, profile_depth=PROFILE_DEPTH)
+                     move_depth=MOVE_DEPTH, profile_depth=PROFILE_DEPTH, pwm_bits=PWM_BITS)
 
 
 def speed(rng, lo=0.05, hi=0.45):
@@ -304,3 +304,77 @@ async def abort_then_new_program(dut):
     assert bench.trace == expected_from(second, stopped)
     for k, chk in enumerate(bench.checkers):
         assert wrap(chk.position, W) == bench.last["pos"][k]
+
+
+@cocotb.test()
+async def outputs_in_program_order(dut):
+    """OUTPUT commands between motion: each takes effect after every move before it and
+    before any move after it; the spindle PWM's duty per period is its power (outside
+    laser mode), 0 at rest in laser mode; bad OUTPUTs are rejected and change nothing;
+    a stop at rest switches every output off.  Every clock is compared with the model
+    besides."""
+    bind(dut)
+    rng = random.Random(SEED + 7)
+    bench = new_bench(dut)
+    await bench.start(pause_prob=0.2)
+    full = enc.OUTPUT_POWER_FULL
+    period = 1 << PWM_BITS
+    # (command, the pins (enable, reverse, mist, flood) after it, or None: rejected)
+    outputs = [
+        (enc.encode_output(full // 3, 1, mist=1), (1, 0, 1, 0)),
+        (enc.encode_output(full, 1, 1, flood=1), (1, 1, 0, 1)),
+        (enc.encode_output(full + 1, 1), None),                 # above 100 %: E_FIELD
+        (enc.encode_output(0, 1) | (1 << 100), None),           # a reserved bit: E_OPCODE
+        (enc.encode_output(full // 2, 1, 0, 1, 0), (1, 0, 0, 0)),   # laser, constant
+        (enc.encode_output(full, 1, 0, 1, 1, 1, 1), (1, 0, 1, 1)),  # laser, dynamic
+        (enc.encode_output(), (0, 0, 0, 0)),
+    ]
+    cmds = []
+    for command, _ in outputs:
+        for _ in range(3):
+            cmds.append(random_arc(rng, rmax=20) if rng.random() < 0.5
+                        else random_line(rng, NA, scale=20))
+        cmds.append(command)
+    cmds.append(random_line(rng, NA, scale=20))
+    prog = plan(rng, cmds)
+    await bench.send(prog)
+    await bench.drain()
+    check_end(bench, prog)
+    assert [c for _, c in bench.errors] == [enc.E_FIELD, enc.E_OPCODE]
+
+    # the moves the host expects before each OUTPUT, and the pin changes seen
+    changes = [(i, pins[0], pins[1:5]) for i, pins in enumerate(bench.output_pins)
+               if i == 0 or pins[1:5] != bench.output_pins[i - 1][1:5]]
+    assert changes[0][2] == (0, 0, 0, 0)
+    expected = []
+    for k, c in enumerate(prog):
+        if enc.decode(c)["opcode"] == enc.OP_OUTPUT:
+            after = dict(outputs)[c]
+            if after is not None:
+                expected.append((len(expect(prog[:k], NA, W)[0]), after))
+    got = [(moves, pins) for _, moves, pins in changes[1:]]
+    assert got == expected, f"output changes {got}, expected {expected}"
+
+    # duty per PWM period: the power outside laser mode, nothing at rest in laser mode
+    spans = [(start, changes[n + 1][0] if n + 1 < len(changes) else len(bench.output_pins))
+             for n, (start, _, _) in enumerate(changes)]
+    constant = [(spans[1], full // 3), (spans[2], full)]
+    for (start, end), power in constant:
+        first = -(-(start + 2 * period) // period) * period
+        for p0 in range(first, end - period + 1, period):
+            high = sum(bench.output_pins[t][5] for t in range(p0, p0 + period))
+            assert high == power >> (16 - PWM_BITS), f"period at {p0}: {high} high"
+    for start, end in spans[3:5]:
+        for t in range(start + 2 * period, end):
+            if all(v == 0 for v in bench.speeds[t - 2 * period:t + 1]):
+                assert bench.output_pins[t][5] == 0, f"laser on at rest, cycle {t}"
+    assert any(bench.output_pins[t][5] for t in range(*spans[4]))
+
+    # a stop at rest switches everything off
+    await bench.send([enc.encode_output(full, 1, 0, 0, 0, 1, 1)])
+    await bench.drain()
+    assert bench.output_pins[-1][1:5] == (1, 0, 1, 1)
+    bench.stop_schedule = set(range(bench.cycle + 2, bench.cycle + 10))
+    for _ in range(20):
+        await FallingEdge(dut.clk)
+    assert bench.output_pins[-1][1:6] == (0, 0, 0, 0, 0)

@@ -24,7 +24,14 @@ timing keys are optional per axis.  Also optional:
 * ``[positions]`` ``g28 = [x, y, z]`` and ``g30 = [x, y, z]``: the stored G28 and G30
   positions in machine mm (LinuxCNC keeps them in parameters #5161-#5163 and
   #5181-#5183); default the machine origin.  ``halfpoint.cam.gcode.parse`` takes them
-  with ``positions=machine``.  A bad file raises ``MachineError`` whose
+  with ``positions=machine``.
+* ``[spindle]`` ``max_speed`` (S of a 100 % PWM duty, default 1000: grbl's ``$30``),
+  ``min_speed`` (default 0, grbl's ``$31``: a non-zero S below it runs at it;
+  ``min_speed`` < ``max_speed``), ``laser_mode`` (default false, grbl's ``$32``: the
+  PWM is off at rest and during G0, and under M4 it follows the path speed over
+  the programmed feed, so the power per length stays constant).  The duty of S is
+  ``clamp(S, min_speed, max_speed) / max_speed`` (S 0: 0 %).  A bad file raises
+  ``MachineError`` whose
 message starts with the dotted key (``axis.x.max_accel_mm_s2: must be > 0``):
 an unknown key anywhere, a missing required value, a wrong type (``true`` is
 not a number; ``clock_hz`` must be a whole number), a limit <= 0, a negative
@@ -79,6 +86,7 @@ AXIS_REQUIRED = ("blu_mm", "max_velocity_mm_s", "max_accel_mm_s2")
 TRAVEL_KEYS = ("travel_min_mm", "travel_max_mm")
 POSITION_KEYS = ("g28", "g30")
 PLANNER_REQUIRED = ("junction_deviation_mm",)
+SPINDLE_KEYS = ("max_speed", "min_speed", "laser_mode")
 # the core's STEP/DIR timing registers are TW bits wide (rtl/halfpoint_core.v, default 16)
 TIMING_WIDTH = 16
 
@@ -128,6 +136,9 @@ class Machine:
     source: str = ""
     g28: tuple = (0.0, 0.0, 0.0)        # stored G28 / G30 positions, machine mm
     g30: tuple = (0.0, 0.0, 0.0)
+    spindle_max: float = 1000.0         # S of a 100 % PWM duty
+    spindle_min: float = 0.0            # a non-zero S below it runs at it
+    laser_mode: bool = False            # grbl's $32
 
     def axis(self, name: str) -> Axis:
         return self.axes[AXES.index(name)]
@@ -189,7 +200,7 @@ def _missing(table: dict, required, prefix: str, source: str) -> None:
 def from_dict(data: dict, source: str = "") -> Machine:
     """Check a parsed machine file and build the ``Machine`` (see the module docstring)."""
     _table(data, "machine file", source)
-    _unknown(data, ("clock_hz", "axis", "planner", "positions"), "", source)
+    _unknown(data, ("clock_hz", "axis", "planner", "positions", "spindle"), "", source)
     _missing(data, ("clock_hz", "axis", "planner"), "", source)
     clock = _number(data["clock_hz"], "clock_hz", source)
     if isinstance(clock, float):
@@ -261,7 +272,26 @@ def from_dict(data: dict, source: str = "") -> Machine:
                 raise MachineError(key, f"must be an array of three numbers [x, y, z] in mm, "
                                    f"got {v!r}", source)
             positions[k] = tuple(float(_number(c, key, source)) for c in v)
-    return Machine(clock, tuple(axes), float(jd), source, **positions)
+    spindle = {}
+    if "spindle" in data:
+        sp_t = _table(data["spindle"], "spindle", source)
+        _unknown(sp_t, SPINDLE_KEYS, "spindle.", source)
+        if "max_speed" in sp_t:
+            spindle["spindle_max"] = _positive(sp_t["max_speed"], "spindle.max_speed", source)
+        if "min_speed" in sp_t:
+            lo = float(_number(sp_t["min_speed"], "spindle.min_speed", source))
+            if lo < 0:
+                raise MachineError("spindle.min_speed", f"must be >= 0, got {lo!r}", source)
+            spindle["spindle_min"] = lo
+        if spindle.get("spindle_min", 0.0) >= spindle.get("spindle_max", 1000.0):
+            raise MachineError("spindle.min_speed", "must be below spindle.max_speed "
+                               f"({spindle.get('spindle_max', 1000.0)!r})", source)
+        if "laser_mode" in sp_t:
+            if not isinstance(sp_t["laser_mode"], bool):
+                raise MachineError("spindle.laser_mode", "must be true or false, got "
+                                   f"{sp_t['laser_mode']!r}", source)
+            spindle["laser_mode"] = sp_t["laser_mode"]
+    return Machine(clock, tuple(axes), float(jd), source, **positions, **spindle)
 
 
 def loads(text: str, source: str = "") -> Machine:

@@ -37,6 +37,9 @@ command, and a ``Pause`` where a dwell is.
 * A dwell (G4 P seconds) is a ``Pause`` of round(seconds x clock_hz) clocks in
   program order: the executor stops feeding commands there until the core is idle,
   then waits those clocks.
+* An output change (``planner.OutputChange``: M3/M4/M5, S, M7/M8/M9) is an OUTPUT
+  command in program order; the motion before it ends at rest (the core runs it once
+  everything before it has moved).
 
 Executors (``run_model`` and ``run_clocked`` here; ``halfpoint.sim.engines`` has the
 RTL one; a faster model can take the same place) are functions ``(items, CoreConfig, holds) ->
@@ -61,7 +64,7 @@ from ..spec.program import segment_moves
 from ..spec.stepgen import StepCfg
 from .gcode import GcodeError, Move
 from .machine import Machine, MachineError
-from .planner import Dwell, Segment, plan, projected_limit
+from .planner import Dwell, OutputChange, Segment, plan, projected_limit
 from .summary import _plannable
 
 AXES = 3
@@ -246,7 +249,10 @@ def build_motion(q, items, machine: Machine, width: int = WIDTH) -> MotionPlan:
     return MotionPlan(out_items, commands, planned, div, clock, tuple(blu))
 
 
-def _pause(dw: Dwell, clock: int) -> Pause:
+def _pause(dw: Dwell, clock: int):
+    """A dwell's ``Pause``, or an output change's OUTPUT command."""
+    if isinstance(dw, OutputChange):
+        return enc.encode_output(*dw.settings)
     return Pause(round(Fraction(dw.seconds) * clock), dw.seconds, dw.lineno)
 
 

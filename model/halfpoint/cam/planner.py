@@ -96,6 +96,16 @@ class Dwell:
     lineno: int
 
 
+@dataclass(frozen=True)
+class OutputChange(Dwell):
+    """A change of the spindle, laser or coolant outputs (M3/M4/M5, S, M7/M8/M9; in laser
+    mode also around G0): the core's OUTPUT command, ``settings`` being
+    ``encoding.encode_output``'s arguments.  The core runs it once everything before it
+    has moved, so the motion before it ends at rest, as before a dwell of 0 s."""
+
+    settings: tuple = ()
+
+
 @dataclass
 class Segment:
     """One planned motion block: geometry, limits and its trapezoidal profile.

@@ -23,14 +23,16 @@ import sys
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
+from ..spec import encoding as enc
 from ..spec import profile as pf
 from .comp import compensate, to_gcode
+from .gcode import Coolant, Spindle
 from .gcode import Dwell as GcodeDwell
 from .gcode import Move, load_tool_table, parse
 from .geom import Arc, Line
 from .machine import Machine, check_program, load_default
 from .motion import Execution, MotionPlan, build_motion, core_config, max_clocks_for, run_model
-from .planner import Dwell, Segment, estimate_time
+from .planner import Dwell, OutputChange, Segment, estimate_time
 from .quant import quantise
 from .summary import Summary, check_travel, summarise
 
@@ -96,18 +98,73 @@ def load_program(path: str, radius=None, tools_path=None, strict=False, window=5
     return prog, comp, summary
 
 
-def plan_items_compensated(prog, moves) -> list:
-    """The compensated ``moves`` with the program's dwells (``planner.Dwell``) in
-    program order.  A dwell stands before the programmed move index ``before``; each
-    compensated move is traced back to its programmed move (the same object, else the
-    next programmed move of its line, in order), and the dwell goes before the first
-    compensated move from that index on."""
-    dwells = sorted((e for e in prog.events if isinstance(e, GcodeDwell)),
-                    key=lambda e: e.before)
-    if not dwells:
+def output_settings(machine: Machine, on: bool, cw: bool, speed: float, mist: bool,
+                    flood: bool) -> tuple:
+    """``encoding.encode_output``'s arguments for a spindle and coolant state: the duty
+    of S is clamp(S, min_speed, max_speed) / max_speed (S 0: 0 %); in laser mode M4 is
+    dynamic power (the duty follows the path speed) and M3 constant, outside it M4 is
+    the reverse direction."""
+    top = machine.spindle_max
+    s = 0.0 if speed <= 0 else min(max(speed, machine.spindle_min), top)
+    power = round(enc.OUTPUT_POWER_FULL * s / top)
+    laser = machine.laser_mode
+    return (power, int(on), int(on and not cw and not laser), int(laser),
+            int(on and not cw and laser), int(mist), int(flood))
+
+
+def plan_items_compensated(prog, moves, machine: Machine | None = None) -> list:
+    """The compensated ``moves`` with the program's dwells (``planner.Dwell``) and, with
+    a ``machine``, its spindle and coolant changes (``planner.OutputChange``; in laser
+    mode the laser also goes off for each G0 and on again after it) in program order.
+    An event stands before the programmed move index ``before``; each compensated move
+    is traced back to its programmed move (the same object, else the next programmed
+    move of its line, in order), and the event goes before the first compensated move
+    from that index on."""
+    kinds = (GcodeDwell, Spindle, Coolant) if machine is not None else (GcodeDwell,)
+    events = sorted((e for e in prog.events if isinstance(e, kinds)), key=lambda e: e.before)
+    if not events:
         return list(moves)
+    state = {"on": False, "cw": True, "speed": 0.0, "mist": False, "flood": False}
+    # the outputs as the core has them, and as it had them before the last item when
+    # that is an OutputChange (changes with no move between them are merged into one)
+    emitted = [output_settings(machine, **state)] if machine is not None else [None]
+    before_last = [None]
+    items: list = []
+
+    def emit(settings: tuple, lineno: int) -> None:
+        if settings == emitted[0]:
+            return
+        if items and isinstance(items[-1], OutputChange):
+            items.pop()
+            if settings == before_last[0]:
+                emitted[0] = settings
+                return
+        else:
+            before_last[0] = emitted[0]
+        items.append(OutputChange(0.0, lineno, settings))
+        emitted[0] = settings
+
+    def put(ev) -> None:
+        if isinstance(ev, GcodeDwell):
+            items.append(Dwell(ev.seconds, ev.lineno))
+            return
+        if isinstance(ev, Spindle):
+            state.update(on=ev.on, cw=ev.cw, speed=ev.speed)
+        else:
+            state.update(mist=ev.mist, flood=ev.flood)
+        emit(output_settings(machine, **state), ev.lineno)
+
+    def laser_gate(m) -> None:
+        """Laser mode: the laser is off for a G0 and on again for the next cut."""
+        if machine is None or not machine.laser_mode or not state["on"]:
+            return
+        want = output_settings(machine, **state)
+        if m.kind == "rapid":
+            want = (0, 0) + want[2:4] + (0,) + want[5:]
+        emit(want, m.lineno)
+
     where = {id(m): i for i, m in enumerate(prog.moves)}
-    items, d, p = [], 0, 0
+    d, p = 0, 0
     for m in moves:
         if id(m) in where:
             p = where[id(m)]
@@ -117,11 +174,13 @@ def plan_items_compensated(prog, moves) -> list:
                 j += 1
             if j < len(prog.moves):
                 p = j
-        while d < len(dwells) and dwells[d].before <= p:
-            items.append(Dwell(dwells[d].seconds, dwells[d].lineno))
+        while d < len(events) and events[d].before <= p:
+            put(events[d])
             d += 1
+        laser_gate(m)
         items.append(m)
-    items += [Dwell(e.seconds, e.lineno) for e in dwells[d:]]
+    for ev in events[d:]:
+        put(ev)
     return items
 
 
@@ -147,7 +206,7 @@ def run_program(path: str, execute=None, radius=None, tools_path=None, strict=Fa
     check_program(machine, comp.moves)
     blu = machine.blu
     q = quantise(comp.moves, blu, width)
-    motion = build_motion(q, plan_items_compensated(prog, comp.moves), machine, width)
+    motion = build_motion(q, plan_items_compensated(prog, comp.moves, machine), machine, width)
     holds = tuple((int(a), int(b)) for a, b in holds)
     # a bound against a hung run: three times the planned time, plus holds and pauses
     planned_s = estimate_time(motion.planned)
@@ -342,4 +401,5 @@ def print_messages(path: str, messages) -> None:
 
 
 __all__ = ["load_program", "run_program", "plot_run", "plot_profile", "write_trace", "to_gcode",
-           "print_warnings", "print_messages", "plan_items_compensated", "RunResult"]
+           "print_warnings", "print_messages", "plan_items_compensated", "output_settings",
+           "RunResult"]

@@ -109,6 +109,16 @@ def defines(enc: ModuleType = encoding) -> list[Define]:
         args[n] = (1 << width) - 1
         prof[name] = field_bits(enc.encode_profile(*args), profile0, f"profile {name}")
 
+    # output fields, found the same way
+    output0 = enc.encode_output()
+    if (output0 >> op_lsb) & enc.OPCODE_MASK != enc.OP_OUTPUT:
+        raise ValueError("the encoder does not put OP_OUTPUT into the opcode bits")
+    outf = {}
+    for n, (name, _, width) in enumerate(enc.OUTPUT_FIELDS):
+        args = [0] * len(enc.OUTPUT_FIELDS)
+        args[n] = (1 << width) - 1
+        outf[name] = field_bits(enc.encode_output(*args), output0, f"output {name}")
+
     # reserved bits: everything a command of the kind does not use
     def mask(lsb: int, width: int) -> int:
         return ((1 << width) - 1) << lsb
@@ -123,6 +133,9 @@ def defines(enc: ModuleType = encoding) -> list[Define]:
     profile_used = mask(op_lsb, op_width)
     for f in prof.values():
         profile_used |= mask(*f)
+    output_used = mask(op_lsb, op_width)
+    for f in outf.values():
+        output_used |= mask(*f)
     digits = (bits + 3) // 4
 
     errors = sorted((v, n) for n, v in vars(enc).items()
@@ -145,6 +158,8 @@ def defines(enc: ModuleType = encoding) -> list[Define]:
                "CONT: more segments of this program follow (for the underrun flag)"),
         Define("OP_PROFILE", sized(op_width, enc.OP_PROFILE),
                "velocity profile of the motion commands that follow"),
+        Define("OP_OUTPUT", sized(op_width, enc.OP_OUTPUT),
+               "spindle, laser and coolant outputs, once everything before has moved"),
         Define("", "", "line: signed delta of axis k in bits "
                "CMD_DELTA_LSB + k * CMD_DELTA_STRIDE +: CMD_DELTA_WIDTH"),
         Define("CMD_DELTA_LSB", str(deltas[0][0]), ""),
@@ -160,7 +175,13 @@ def defines(enc: ModuleType = encoding) -> list[Define]:
     for name, (lsb, width) in prof.items():
         out += [Define(f"CMD_PROFILE_{name.upper()}_LSB", str(lsb), ""),
                 Define(f"CMD_PROFILE_{name.upper()}_WIDTH", str(width), "")]
+    out += [Define("", "", "output fields (unsigned; spec/outputs.py gives their meaning)")]
+    for name, (lsb, width) in outf.items():
+        out += [Define(f"CMD_OUTPUT_{name.upper()}_LSB", str(lsb), ""),
+                Define(f"CMD_OUTPUT_{name.upper()}_WIDTH", str(width), "")]
     out += [
+        Define("OUTPUT_POWER_FULL", str(enc.OUTPUT_POWER_FULL),
+               "output power of a 100 % duty; above it the command is rejected (E_FIELD)"),
         Define("PROFILE_DISTANCE_EXTRA", str(enc.PROFILE_DISTANCE_EXTRA),
                "d_exit, d_stop < 2^(W + PROFILE_DISTANCE_EXTRA) in a core of width W"),
         Define("", "", "reserved bits (must be zero, else the command is rejected, E_OPCODE)"),
@@ -170,6 +191,8 @@ def defines(enc: ModuleType = encoding) -> list[Define]:
                "of an arc command"),
         Define("CMD_RESERVED_PROFILE", f"{bits}'h{all_bits & ~profile_used:0{digits}x}",
                "of a profile command"),
+        Define("CMD_RESERVED_OUTPUT", f"{bits}'h{all_bits & ~output_used:0{digits}x}",
+               "of an output command"),
         Define("", "", "error codes of the core (err_code output)"),
         Define("ERR_CODE_BITS", str(enc.ERR_CODE_BITS), ""),
     ]

@@ -21,11 +21,10 @@ from pathlib import Path
 
 from ..spec.core import CoreModel, run_program
 from ..spec.program import profiled, random_arc, random_line
-from ..sim.env import BUILD, REPO, rtl_sources, run_cocotb, setup_verilator_env
+from ..sim.design import design_sources
+from ..sim.env import BUILD, REPO, run_cocotb, setup_verilator_env
 from ..spec.stepgen import StepCfg
 
-CORE_SOURCES = ("halfpoint_core", "halfpoint_arc", "halfpoint_line", "halfpoint_stepgen",
-                "halfpoint_profile")
 CLK_NS = 10          # the cocotb benches' clock period
 
 
@@ -37,7 +36,7 @@ def cocotb_speed(seed: int = 1) -> dict:
     name = "core_na3_w32_d16_speed"
     results = run_cocotb(
         toplevel="halfpoint_core",
-        sources=rtl_sources(*CORE_SOURCES),
+        sources=design_sources("halfpoint_core"),
         test_module="core_cocotb",
         test_dir=BUILD / "sim" / name / "run",
         parameters={"NA": 3, "W": 32, "DEPTH": 16, "TW": 16, "DIV": HARNESS_DIV},
@@ -92,7 +91,7 @@ def compiled_speed(repeats: int = 200, seed: int = 1) -> dict:
            "-GNA=3", "-GW=32", "-GDEPTH=16", "-GTW=16", f"-GDIV={HARNESS_DIV}", "-Wno-fatal", "-Mdir", str(work / "obj"),
            "-CFLAGS", "-O2", f"-I{REPO / 'rtl'}",
            str(REPO / "tb" / "halfpoint_core" / "speed_harness.cpp"),
-           *(str(p) for p in rtl_sources(*CORE_SOURCES))]
+           *(str(p) for p in design_sources("halfpoint_core"))]
     log = work / "build.log"
     t0 = time.monotonic()
     proc = subprocess.run(cmd, capture_output=True, text=True)

@@ -23,7 +23,8 @@ from ..spec.stepgen import StepCfg
 from .timing import StepDirChecker
 
 FIELDS = ("tready", "busy", "level", "move", "pos", "step_pins", "dir_pins",
-          "err", "err_code", "underrun", "dry", "speed")
+          "err", "err_code", "underrun", "dry", "speed", "spindle_enable", "spindle_reverse",
+          "spindle_pwm", "coolant_mist", "coolant_flood")
 
 
 class Mismatch(AssertionError):
@@ -33,12 +34,13 @@ class Mismatch(AssertionError):
 class CoreBench:
     def __init__(self, dut, axes: int, width: int, depth: int, tw: int,
                  cfg: list[StepCfg] | None = None, seed: int = 1, check: bool = True,
-                 div: int = 12, move_depth: int = 4, profile_depth: int = 2):
+                 div: int = 12, move_depth: int = 4, profile_depth: int = 2,
+                 pwm_bits: int = 10):
         self.dut = dut
         self.axes, self.width, self.depth, self.tw = axes, width, depth, tw
         self.cfg = cfg or [StepCfg() for _ in range(axes)]
         self.model = CoreModel(axes, width, depth, tw, div, move_depth, profile_depth,
-                               self.cfg)
+                               self.cfg, pwm_bits)
         self.checkers = [StepDirChecker(c, f"axis {k}") for k, c in enumerate(self.cfg)]
         self.rng = random.Random(seed)
         self.check = check
@@ -49,6 +51,9 @@ class CoreBench:
         self.hold_schedule: set[int] = set()      # cycles with hold high
         self.stop_schedule: set[int] = set()      # cycles with stop high
         self.speeds: list[int] = []               # the speed register, every cycle
+        # the spindle/laser/coolant pins every cycle: (moves made before the cycle,
+        # spindle_enable, spindle_reverse, coolant_mist, coolant_flood, spindle_pwm)
+        self.output_pins: list[tuple] = []
         self.trace: list[tuple] = []       # positions after every move
         self.max_level = 0
         self.errors: list[tuple[int, int]] = []   # (cycle, code)
@@ -88,6 +93,11 @@ class CoreBench:
             "dir_pins": int(d.dir_pin.value), "err": int(d.err.value),
             "err_code": int(d.err_code.value), "underrun": int(d.underrun.value),
             "dry": int(d.dry.value), "speed": int(d.speed.value),
+            "spindle_enable": int(d.spindle_enable.value),
+            "spindle_reverse": int(d.spindle_reverse.value),
+            "spindle_pwm": int(d.spindle_pwm.value),
+            "coolant_mist": int(d.coolant_mist.value),
+            "coolant_flood": int(d.coolant_flood.value),
         }
 
     async def start(self, pause_prob: float = 0.0) -> None:
@@ -133,6 +143,9 @@ class CoreBench:
                 self.override = self.override_schedule[self.cycle]
                 d.feed_override.value = self.override
             self.speeds.append(got["speed"])
+            self.output_pins.append((self.moves, got["spindle_enable"], got["spindle_reverse"],
+                                     got["coolant_mist"], got["coolant_flood"],
+                                     got["spindle_pwm"]))
             abort = int(self.cycle in self.abort_schedule)
             hold = int(self.cycle in self.hold_schedule)
             stop = int(self.cycle in self.stop_schedule)

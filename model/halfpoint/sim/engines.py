@@ -90,7 +90,8 @@ def run_core_rtl(items, config, holds=(), max_clocks: int | None = None):
     PROFILE_DEPTH, driven by ``cam.motion.Feeder`` (pauses, holds) from the cocotb
     module ``rtl_engine_core``, which reports only what the RTL's outputs showed."""
     from ..cam.motion import Execution, Pause, max_clocks_for
-    from .env import BUILD, rtl_sources, run_cocotb
+    from .design import design_sources
+    from .env import BUILD, run_cocotb
 
     BUILD.mkdir(parents=True, exist_ok=True)
     params = {"NA": config.axes, "W": config.width, "DEPTH": config.depth, "TW": config.tw,
@@ -106,8 +107,7 @@ def run_core_rtl(items, config, holds=(), max_clocks: int | None = None):
             "max_clocks": max_clocks or max_clocks_for(items, holds)}))
         run_cocotb(
             toplevel="halfpoint_core",
-            sources=rtl_sources("halfpoint_core", "halfpoint_arc", "halfpoint_line",
-                                "halfpoint_stepgen", "halfpoint_profile"),
+            sources=design_sources("halfpoint_core"),
             test_module="halfpoint.sim.rtl_engine_core",
             test_dir=Path(tmp),
             parameters=params,

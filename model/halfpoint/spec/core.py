@@ -43,6 +43,12 @@ Data path, clock by clock (issue 13: the interpolators decoupled from the pacing
   ramping at the segment's acceleration.
 * STEP/DIR: a popped move requests a step on every axis it steps; positions count
   them.
+* Outputs (``spec.outputs.OutputStage``): an OUTPUT command waits at the queue
+  head until everything before it has moved (nothing in flight, both units idle,
+  the move and profile queues empty, the profile stage idle: no segment and speed
+  0), then pops and loads the spindle, laser and coolant settings at that edge.
+  The output stage sees the profile stage's speed and, on each ``take``, the new
+  segment's cruise speed; abort and a stop at rest switch every output off.
 * Underrun: a segment with CONT set made its last move and no next profile was
   taken at that edge.  ``dry`` (sticky): the profile stage had to decelerate for a
   dry queue (see ``spec.profile``).
@@ -56,6 +62,7 @@ from . import encoding as enc
 from . import profile as pf
 from .arc import MOVE_A, V_HOLD, ArcInputs, ArcUnitModel
 from .line import L_HOLD, LineInputs, LineUnitModel
+from .outputs import OutputInputs, OutputStage
 from .rules import fits, wrap
 from .stepgen import StepCfg, StepGenModel, StepInputs
 
@@ -71,13 +78,18 @@ def profile_fields_ok(p: pf.ProfileParams, width: int) -> bool:
 
 def decode_for_core(cmd: int, axes: int, width: int):
     """('err', code) | ('nop',) | ('profile', ProfileParams) | ('line', deltas, cont) |
-    ('arc', (cw, xs, ys, xe, ye), cont): what the dispatcher does with the head
+    ('arc', (cw, xs, ys, xe, ye), cont) | ('output', OutputSettings): what the
+    dispatcher does with the head
     (the profile rules that depend on the profile in force: ``dispatch``)."""
     d = enc.decode(cmd)
     op = d["opcode"]
-    if op not in (enc.OP_LINE, enc.OP_ARC_CW, enc.OP_ARC_CCW, enc.OP_PROFILE) \
-            or not d["reserved_ok"]:
+    if op not in (enc.OP_LINE, enc.OP_ARC_CW, enc.OP_ARC_CCW, enc.OP_PROFILE,
+                  enc.OP_OUTPUT) or not d["reserved_ok"]:
         return ("err", enc.E_OPCODE)
+    if op == enc.OP_OUTPUT:
+        if d["power"] > enc.OUTPUT_POWER_FULL:
+            return ("err", enc.E_FIELD)
+        return ("output", OutputSettings(*(d[name] for name, _, _ in enc.OUTPUT_FIELDS)))
     if op == enc.OP_PROFILE:
         params = pf.ProfileParams(*(d[name] for name, _, _ in enc.PROFILE_FIELDS))
         if not profile_fields_ok(params, width):
@@ -112,9 +124,24 @@ def dispatch(dec, profile):
         return dec, profile
     if kind == "profile":
         return ("nop",), dec[1]
+    if kind == "output":
+        return dec, profile
     if profile is None or (kind == "arc") != (profile.line_cost == 0):
         return ("err", enc.E_PROFILE), profile
     return dec, profile
+
+
+@dataclass
+class OutputSettings:
+    """The fields of an OUTPUT command (``encoding.OUTPUT_FIELDS``)."""
+
+    power: int = 0
+    enable: int = 0
+    reverse: int = 0
+    laser: int = 0
+    dynamic: int = 0
+    mist: int = 0
+    flood: int = 0
 
 
 @dataclass
@@ -142,6 +169,12 @@ class CoreOutputs:
     underrun: int
     dry: int
     speed: int
+    spindle_enable: int = 0
+    spindle_reverse: int = 0
+    spindle_pwm: int = 0
+    coolant_mist: int = 0
+    coolant_flood: int = 0
+    duty: int = 0
 
 
 @dataclass
@@ -154,6 +187,7 @@ class HeadView:
     err_code: int = 0               # reject reported at this edge (decode or unit)
     inflight_clear: bool = False    # a unit's reject pulse ends the command in flight
     profile: pf.ProfileParams | None = None     # the profile in force after this edge
+    output: OutputSettings | None = None        # an OUTPUT executed at this edge
 
 
 @dataclass
@@ -185,6 +219,7 @@ class CoreModel:
     move_depth: int = 4
     profile_depth: int = 2
     cfg: list = field(default_factory=list)     # StepCfg per axis
+    pwm_bits: int = 10              # the output stage's PWM period 2^pwm_bits clocks
 
     def __post_init__(self) -> None:
         if not 2 <= self.axes <= 6:
@@ -212,6 +247,7 @@ class CoreModel:
         self.stage = pf.ProfileStage(self.div, self.width)
         self.stage_cont = False                         # CONT of the stage's segment
         self.stepgens = [StepGenModel(self.tw) for _ in range(self.axes)]
+        self.out_stage = OutputStage(self.pwm_bits)
         self.pos = [0] * self.axes
         self.o_move = 0
         self.o_err = 0
@@ -233,9 +269,11 @@ class CoreModel:
         self.moves.clear()
         self.profiles.clear()
         self.stage_cont = False
+        speed = self.stage.outputs().v
         self.stage.clock(stage_in or pf.ProfileInputs(abort=1, override=i.override))
         for sg, c in zip(self.stepgens, self.cfg):
             sg.clock(c, StepInputs())
+        self._clock_outputs(None, True, speed, False, 0)
         self.o_move = 0
         self.o_err = 0
 
@@ -278,7 +316,8 @@ class CoreModel:
                        and not at_rest_stop),
             busy=int(busy), level=len(self.queue), move=self.o_move, pos=tuple(self.pos),
             step_pins=step_pins, dir_pins=dir_pins, err=self.o_err,
-            err_code=self.o_err_code, underrun=self.o_underrun, dry=so.dry, speed=so.v)
+            err_code=self.o_err_code, underrun=self.o_underrun, dry=so.dry, speed=so.v,
+            **self._output_pins())
 
     # -- combinational views ------------------------------------------
     def head_view(self) -> HeadView:
@@ -292,6 +331,9 @@ class CoreModel:
                 h.pop, h.err_code = True, dec[1]
             elif dec[0] == "nop":
                 h.pop = True
+            elif dec[0] == "output":
+                if self.downstream_idle():
+                    h.pop, h.output = True, dec[1]
             else:
                 h.cmd = dec
                 unit = self.arc if dec[0] == "arc" else self.line
@@ -304,6 +346,13 @@ class CoreModel:
             h.err_code = enc.E_OPCODE  # empty lines never reach the unit
         h.inflight_clear = bool(arc_o.reject or line_o.reject)
         return h
+
+    def downstream_idle(self) -> bool:
+        """Everything handed out before has moved: both units idle, the move and
+        profile queues empty, the profile stage idle (no segment, speed 0).  (Nothing
+        is in flight when the dispatcher looks at the head.)"""
+        return not (self.arc.outputs().busy or self.line.outputs().busy or self.moves
+                    or self.profiles or self.stage.outputs().busy)
 
     def stage_inputs(self, i: CoreInputs) -> pf.ProfileInputs:
         """The profile stage's inputs: the move queue's head and the profile queue's."""
@@ -337,7 +386,10 @@ class CoreModel:
         loading, push = self._clock_units(head)
         popped = self.moves[0] if w.pop else None
         self._clock_move_queue(w, push)
+        speed = self.stage.outputs().v
+        v_cruise = self.profiles[0][0].v_cruise if w.take else 0
         self._clock_stage(sin, w, loading)
+        self._clock_outputs(head.output, False, speed, w.take, v_cruise)
         self._clock_stepgens(popped)
         self._clock_status(head, popped, w)
         return w
@@ -430,6 +482,25 @@ class CoreModel:
             if st:
                 self.pos[axis] = wrap(self.pos[axis] + st, self.width)
         self.o_move = int(popped is not None)
+
+    def _output_pins(self) -> dict:
+        o = self.out_stage.outputs()
+        return dict(spindle_enable=o.spindle_enable, spindle_reverse=o.spindle_reverse,
+                    spindle_pwm=o.pwm, coolant_mist=o.coolant_mist,
+                    coolant_flood=o.coolant_flood, duty=o.duty)
+
+    def _clock_outputs(self, load: OutputSettings | None, off: bool, speed: int, take,
+                       v_cruise: int) -> None:
+        """The output stage's edge: ``load`` an OUTPUT's settings, ``off`` (abort or a
+        stop at rest), the profile stage's speed during the cycle, and the cruise
+        speed of the segment the stage takes at this edge."""
+        settings = load or OutputSettings()
+        self.out_stage.clock(OutputInputs(
+            load=int(load is not None), load_power=settings.power,
+            load_enable=settings.enable, load_reverse=settings.reverse,
+            load_laser=settings.laser, load_dynamic=settings.dynamic,
+            load_mist=settings.mist, load_flood=settings.flood, off=int(off),
+            speed=speed, take=int(bool(take)), take_v_cruise=v_cruise))
 
     def _clock_status(self, head: HeadView, popped, w) -> None:
         """err / err_code."""

@@ -36,6 +36,24 @@ d_stop            202     54    decelerate to rest from here if the next
                                 segment is not there yet (dry queue), <= d_exit
 ================  =====  =====  ==============================================
 
+OUTPUT (opcode 5; word 0 has no flag) sets the spindle, laser and coolant outputs
+(``spec.outputs``; M3/M4/M5, S, M7/M8/M9).  It takes effect when everything
+before it has moved (the dispatcher holds it at the queue head until the units,
+the move and profile queues and the profile stage are idle; the host plans the
+motion before it to end at rest) and before anything after it moves:
+
+================  =====  =====  ==============================================
+field             lsb    bits   meaning
+================  =====  =====  ==============================================
+power              32     17    PWM duty, 65536 = 100 %; <= 65536
+enable             49      1    spindle (or laser) on
+reverse            50      1    spindle counter-clockwise (M4, not laser mode)
+laser              51      1    laser mode: the PWM is off at rest
+dynamic            52      1    laser M4: the duty follows speed / cruise speed
+mist               53      1    coolant mist (M7)
+flood              54      1    coolant flood (M8)
+================  =====  =====  ==============================================
+
 All other bits are reserved and must be zero.  Deltas and coordinates are
 BLU, relative to the current position (like G91 with G91.1).  A PROFILE stays
 in force until the next one (so a stream of constant-speed segments needs one),
@@ -58,6 +76,7 @@ OP_LINE = 1
 OP_ARC_CW = 2
 OP_ARC_CCW = 3
 OP_PROFILE = 4
+OP_OUTPUT = 5
 FLAG_CONT = 1 << 8
 OPCODE_MASK = 0xF
 
@@ -66,7 +85,7 @@ OPCODE_MASK = 0xF
 ERR_CODE_BITS = 4
 E_NONE = 0
 E_OPCODE = 1        # unknown opcode or reserved bits set
-E_FIELD = 2         # a coordinate does not fit the core's width
+E_FIELD = 2         # a coordinate does not fit the core's width (or OUTPUT power > 100 %)
 E_ARC_RADIUS = 3    # arc: radius zero
 E_ARC_RANGE = 4     # arc: circle does not fit the width
 E_ARC_END = 5       # arc: end point off the circle
@@ -76,7 +95,7 @@ E_PROFILE_FIELD = 7     # a PROFILE's fields break the rules
 ERR_TEXT = {
     E_NONE: "ok",
     E_OPCODE: "unknown opcode or reserved bits set",
-    E_FIELD: "coordinate does not fit the core's width",
+    E_FIELD: "coordinate does not fit the core's width, or output power above 100 %",
     E_ARC_RADIUS: "arc radius is zero",
     E_ARC_RANGE: "arc circle does not fit the coordinate width",
     E_ARC_END: "arc end point is off the circle",
@@ -94,6 +113,18 @@ PROFILE_FIELDS = (
     ("d_stop", 202, 54),
 )
 PROFILE_DISTANCE_EXTRA = 19     # d_exit, d_stop < 2^(W + 19) for a core of width W
+
+# OUTPUT fields: (name, lsb, bits), in order
+OUTPUT_FIELDS = (
+    ("power", 32, 17),
+    ("enable", 49, 1),
+    ("reverse", 50, 1),
+    ("laser", 51, 1),
+    ("dynamic", 52, 1),
+    ("mist", 53, 1),
+    ("flood", 54, 1),
+)
+OUTPUT_POWER_FULL = 1 << 16     # power field of a 100 % duty; above it: E_FIELD
 
 
 def _u32(v: int) -> int:
@@ -144,6 +175,21 @@ def encode_profile(v_cruise: int, v_exit: int, accel: int, line_cost: int = 0,
     return out
 
 
+def encode_output(power: int = 0, enable: int = 0, reverse: int = 0, laser: int = 0,
+                  dynamic: int = 0, mist: int = 0, flood: int = 0) -> int:
+    """An OUTPUT command (the fields of ``OUTPUT_FIELDS``, in that order).  Only the
+    field widths are checked here: the core rejects a power above
+    ``OUTPUT_POWER_FULL`` (E_FIELD)."""
+    out = OP_OUTPUT
+    for (name, lsb, bits), value in zip(OUTPUT_FIELDS,
+                                        (power, enable, reverse, laser, dynamic, mist, flood)):
+        value = int(value)
+        if not 0 <= value < 1 << bits:
+            raise ValueError(f"output {name} {value} does not fit {bits} bits unsigned")
+        out |= value << lsb
+    return out
+
+
 def decode(cmd: int) -> dict:
     """Fields of a command word (for tests and tools)."""
     w = unpack(cmd)
@@ -161,4 +207,11 @@ def decode(cmd: int) -> dict:
         d["reserved_ok"] = (w[0] & ~OPCODE_MASK) == 0
         for name, lsb, bits in PROFILE_FIELDS:
             d[name] = (cmd >> lsb) & ((1 << bits) - 1)
+    elif op == OP_OUTPUT:
+        d["cont"] = False
+        used = OPCODE_MASK
+        for name, lsb, bits in OUTPUT_FIELDS:
+            d[name] = (cmd >> lsb) & ((1 << bits) - 1)
+            used |= ((1 << bits) - 1) << lsb
+        d["reserved_ok"] = (cmd & ~used) == 0
     return d

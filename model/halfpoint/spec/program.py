@@ -61,7 +61,7 @@ def expect(cmds, axes: int, width: int):
         if dec[0] == "err":
             errors.append(dec[1])
             continue
-        if dec[0] == "nop":
+        if dec[0] in ("nop", "output"):
             continue
         if dec[0] == "line":
             for st in line_steps(dec[1]):
@@ -96,13 +96,17 @@ def profiled(cmds, axes: int, width: int, div: int, v_cruise, accel, junction=No
     fractions of the cruise speed; the program starts and ends at rest (the last
     runnable segment's exit speed is 0).  Commands the core rejects get a profile
     too (an arc rejected by its validator a placeholder: it never runs);
-    non-motion commands pass unchanged."""
+    non-motion commands pass unchanged, and the segment before an OUTPUT command
+    ends at rest (the core runs it once everything before it has moved)."""
     def value(x, k):
         return x(k) if callable(x) else x
 
     runnable = []            # (index in cmds, cost length, line cost, moves)
+    rest_after = set()       # runnable indices followed by an OUTPUT
     for k, c in enumerate(cmds):
         dec = decode_for_core(c, axes, width)
+        if dec[0] == "output" and runnable:
+            rest_after.add(len(runnable) - 1)
         if dec[0] not in ("line", "arc"):
             continue
         moves = segment_moves(dec, width)
@@ -117,7 +121,7 @@ def profiled(cmds, axes: int, width: int, div: int, v_cruise, accel, junction=No
     acc = [value(accel, j) for j in range(n)]
     exits = []
     for j in range(n):
-        if j == n - 1:
+        if j == n - 1 or j in rest_after:
             exits.append(0)
         elif junction is not None:
             exits.append(min(value(junction, j), vc[j], vc[j + 1]))
