@@ -171,6 +171,10 @@ def readme_table(text: str) -> str | None:
     return inner.strip("\n") + "\n"
 
 
+def _shown(path: Path) -> str:
+    return str(path.relative_to(REPO)) if path.is_relative_to(REPO) else str(path)
+
+
 def outputs() -> dict[Path, str]:
     return {VERILOG_HEADER: verilog(), C_HEADER: c_header()}
 
@@ -188,13 +192,13 @@ def main(argv=None) -> int:
     for path, text in outputs().items():
         if args.check:
             if not path.exists() or path.read_text() != text:
-                print(f"{path.relative_to(REPO)} is not current: run "
+                print(f"{_shown(path)} is not current: run "
                       "`python -m halfpoint.flows.regmapgen`")
                 stale += 1
         else:
             path.parent.mkdir(parents=True, exist_ok=True)
             path.write_text(text)
-            print(f"wrote {path.relative_to(REPO)}")
+            print(f"wrote {_shown(path)}")
     return 1 if stale else 0
 
 
