@@ -147,21 +147,47 @@ async def every_register(dut):
     after = await read_all(bench)
     assert after == before, "a bad access changed a register"
     assert bench.trace == [] and int(dut.irq.value) == 0
+    if bench.kind == "axil":
+        # writes and reads in flight together: taken one at a time, alternately
+        m = bench.master
+        writes = [cocotb.start_soon(m.write(address("IRQ_THRESHOLD"), k.to_bytes(4, "little")))
+                  for k in range(1, 6)]
+        reads = [cocotb.start_soon(m.read(address("ID"), 4)) for _ in range(5)]
+        for task in writes:
+            assert int((await task).resp) == 0
+        for task in reads:
+            result = await task
+            assert int(result.resp) == 0
+            assert int.from_bytes(result.data, "little") == rm.ID_VALUE
+        assert await bench.read("IRQ_THRESHOLD") == 5
 
 
 @cocotb.test()
 async def program_through_registers(dut):
     """A whole profiled program of arcs and lines pushed through CMD_0..7 with
     flow control from QUEUE.FREE, coherent positions read during the motion,
-    random STEP/DIR timing and polarity; DONE interrupt at the end; the pins
-    timed and counted to the program's positions."""
+    random STEP/DIR timing and polarity, a feed hold and an override change
+    through CONTROL; DONE interrupt at the end; the pins timed and counted to
+    the program's positions."""
     bench = RegsBench(dut)
     await bench.start()
     rng = random.Random(SEED + 1)
     await configure(bench, rng)
-    cmds = plan(bench, rng, program(bench, rng, 14))
+    cmds = plan(bench, rng, program(bench, rng, 24))
     snapshots = []
-    await bench.send(cmds, positions=snapshots)
+    half = len(cmds) // 2
+    await bench.send(cmds[:half], positions=snapshots)
+    # a feed hold through CONTROL in the motion: to rest (HOLDING), no move while
+    # held, then released at a lower override
+    await bench.write("CONTROL", 1 | 128 << 8)
+    while not await bench.field("STATUS", "HOLDING"):
+        snapshots.append(await bench.positions())
+    assert await bench.field("STATUS", "BUSY") == 1, "the hold came after the motion"
+    moved = len(bench.trace)
+    await bench.idle(100)
+    assert len(bench.trace) == moved, "moves while held"
+    await bench.write("CONTROL", 90 << 8)
+    await bench.send(cmds[half:], positions=snapshots)
     for _ in range(6):
         snapshots.append(await bench.positions())
     await bench.write("IRQ_STATUS", IRQ_ALL)
