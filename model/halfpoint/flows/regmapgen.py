@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+import textwrap
 from pathlib import Path
 
 from ..sim.env import REPO, RTL
@@ -85,7 +86,7 @@ def c_header() -> str:
         " * halfpoint_regs.h: the register map of the halfpoint motion core's SoC",
         " * interface (halfpoint_wb / halfpoint_axil): byte offsets from the base",
         " * address, field shifts and masks, the command opcodes and error codes.",
-        " * " + GENERATED,
+        *textwrap.wrap(GENERATED, 96, initial_indent=" * ", subsequent_indent=" * "),
         " */",
         "#ifndef HALFPOINT_REGS_H",
         "#define HALFPOINT_REGS_H",
@@ -106,7 +107,8 @@ def c_header() -> str:
     ]
     for reg in rm.REGISTERS:
         name = f"HALFPOINT_{reg.name}"
-        lines += ["", f"/* {reg.name} ({reg.access}): {reg.doc} */"]
+        lines += [""] + textwrap.wrap(f"/* {reg.name} ({reg.access}): {reg.doc} */", 99,
+                                      subsequent_indent=" * ")
         if reg.count == 1:
             lines += [f"#define {name} 0x{reg.offset:02X}u"]
         else:
@@ -124,7 +126,7 @@ def c_header() -> str:
     lines += [f"#define HALFPOINT_FLAG_CONT 0x{enc.FLAG_CONT:X}u"]
     for code, text in enc.ERR_TEXT.items():
         const = next(k for k, v in vars(enc).items() if k.startswith("E_") and v == code)
-        lines += [f"#define HALFPOINT_{const} {code}u  /* {text} */"]
+        lines += [f"/* {text} */", f"#define HALFPOINT_{const} {code}u"]
     lines += ["", "#endif /* HALFPOINT_REGS_H */", ""]
     return "\n".join(lines)
 

@@ -127,9 +127,8 @@ REGISTERS = (
               _bits("FREE", 16, "free entries (DEPTH - LEVEL)", 16))),
     Register("IRQ_STATUS", 0x20, W1C, "pending interrupts; write 1 to clear a bit",
              IRQ_FIELDS),
-    Register("IRQ_ENABLE", 0x24, RW, "interrupt enables, the bits of IRQ_STATUS: irq is high while a pending "
-             "bit is enabled",
-             IRQ_FIELDS),
+    Register("IRQ_ENABLE", 0x24, RW, "interrupt enables, the bits of IRQ_STATUS: irq is "
+             "high while a pending bit is enabled", IRQ_FIELDS),
     Register("IRQ_THRESHOLD", 0x28, RW, "QUEUE_LOW is pending while QUEUE.LEVEL < this",
              (_bits("LEVEL", 0, "threshold in commands (0: never)", 16),)),
     Register("SPEED", 0x2C, RO, "path speed, BLU per clock x 2^32 (the core's speed / 64)",
@@ -170,7 +169,8 @@ def addresses(axes: int = enc.MAX_AXES) -> dict[int, tuple[Register, int]]:
         for k in range(reg.size(axes)):
             a = reg.address(k)
             if a in out:
-                raise ValueError(f"{reg.name}_{k} and {out[a][0].name} share address {a:#x}")
+                raise ValueError(
+                    f"{reg.name}_{k} and {out[a][0].name} share address {a:#x}")
             out[a] = (reg, k)
     return out
 
