@@ -283,6 +283,7 @@ module halfpoint_regs #(
     // ------------------------------------------------------------------
     // Register writes, the response, the snapshot
     // ------------------------------------------------------------------
+    integer j;      // the loops of this block (k is the decoder's)
     always @(posedge clk) begin
         if (rst) begin
             hold_q <= `HALFPOINT_REG_CONTROL_HOLD_RESET;
@@ -300,11 +301,11 @@ module halfpoint_regs #(
             resp_valid <= 1'b0;
             resp_error <= 1'b0;
             resp_rdata <= 32'd0;
-            for (k = 0; k < NA; k = k + 1) begin
-                steplen_q[k*TW +: TW] <= STEPLEN_RESET[TW-1:0];
-                stepspace_q[k*TW +: TW] <= STEPSPACE_RESET[TW-1:0];
-                dirsetup_q[k*TW +: TW] <= DIRSETUP_RESET[TW-1:0];
-                dirhold_q[k*TW +: TW] <= DIRHOLD_RESET[TW-1:0];
+            for (j = 0; j < NA; j = j + 1) begin
+                steplen_q[j*TW +: TW] <= STEPLEN_RESET[TW-1:0];
+                stepspace_q[j*TW +: TW] <= STEPSPACE_RESET[TW-1:0];
+                dirsetup_q[j*TW +: TW] <= DIRSETUP_RESET[TW-1:0];
+                dirhold_q[j*TW +: TW] <= DIRHOLD_RESET[TW-1:0];
             end
         end else begin
             if (write && hit_control) begin
@@ -323,20 +324,20 @@ module halfpoint_regs #(
                 irq_threshold_q <= req_wdata[`HALFPOINT_REG_IRQ_THRESHOLD_LEVEL_LSB +: 16];
             end
             irq_status_q <= (irq_status_q & ~irq_clear) | irq_event;
-            for (k = 0; k < CMD_COUNT; k = k + 1) begin
-                if (write && hit_cmd[k]) cmd_q[32*k +: 32] <= req_wdata;
+            for (j = 0; j < CMD_COUNT; j = j + 1) begin
+                if (write && hit_cmd[j]) cmd_q[32*j +: 32] <= req_wdata;
             end
-            for (k = 0; k < NA; k = k + 1) begin
-                if (write && hit_step_timing[k]) begin
-                    steplen_q[k*TW +: TW] <=
+            for (j = 0; j < NA; j = j + 1) begin
+                if (write && hit_step_timing[j]) begin
+                    steplen_q[j*TW +: TW] <=
                         req_wdata[`HALFPOINT_REG_STEP_TIMING_STEPLEN_LSB +: TW];
-                    stepspace_q[k*TW +: TW] <=
+                    stepspace_q[j*TW +: TW] <=
                         req_wdata[`HALFPOINT_REG_STEP_TIMING_STEPSPACE_LSB +: TW];
                 end
-                if (write && hit_dir_timing[k]) begin
-                    dirsetup_q[k*TW +: TW] <=
+                if (write && hit_dir_timing[j]) begin
+                    dirsetup_q[j*TW +: TW] <=
                         req_wdata[`HALFPOINT_REG_DIR_TIMING_DIRSETUP_LSB +: TW];
-                    dirhold_q[k*TW +: TW] <=
+                    dirhold_q[j*TW +: TW] <=
                         req_wdata[`HALFPOINT_REG_DIR_TIMING_DIRHOLD_LSB +: TW];
                 end
             end
