@@ -132,8 +132,7 @@ async def every_register(dut):
     # writes without all byte enables
     unknown = [a for a in range(0, 1 << rm.ADDR_BITS, 4) if a not in known]
     assert unknown
-    for a in rng.sample(unknown, min(12, len(unknown))):
-        assert (await bench.access(a))[0] is False
+    for a in unknown:
         assert (await bench.access(a, rng.getrandbits(32)))[0] is False
     for a, (reg, k) in known.items():
         if reg.access == rm.RO:
