@@ -52,7 +52,9 @@ module halfpoint_regs #(
     // move queue depth in moves, 2..16
     parameter integer MOVE_DEPTH    = 4,
     // profile queue depth in segments, 1..8
-    parameter integer PROFILE_DEPTH = 2
+    parameter integer PROFILE_DEPTH = 2,
+    // spindle/laser PWM period of 2^PWM_BITS clocks, 4..16
+    parameter integer PWM_BITS      = 10
 ) (
     input  wire                                 clk,
     input  wire                                 rst,
@@ -78,7 +80,16 @@ module halfpoint_regs #(
      * STEP/DIR outputs
      */
     output wire [NA-1:0]                        step_pin,
-    output wire [NA-1:0]                        dir_pin
+    output wire [NA-1:0]                        dir_pin,
+
+    /*
+     * Spindle, laser and coolant outputs (halfpoint_core's, set by OUTPUT commands)
+     */
+    output wire                                 spindle_enable,
+    output wire                                 spindle_reverse,
+    output wire                                 spindle_pwm,
+    output wire                                 coolant_mist,
+    output wire                                 coolant_flood
 );
 
     localparam integer A = `HALFPOINT_REGS_ADDR_BITS;
@@ -359,7 +370,8 @@ module halfpoint_regs #(
         .TW            (TW),
         .DIV           (DIV),
         .MOVE_DEPTH    (MOVE_DEPTH),
-        .PROFILE_DEPTH (PROFILE_DEPTH)
+        .PROFILE_DEPTH (PROFILE_DEPTH),
+        .PWM_BITS      (PWM_BITS)
     ) u_core (
         .clk           (clk),
         .rst           (rst),
@@ -386,7 +398,12 @@ module halfpoint_regs #(
         .err_code      (core_err_code),
         .underrun      (core_underrun),
         .dry           (core_dry),
-        .speed         (core_speed)
+        .speed         (core_speed),
+        .spindle_enable  (spindle_enable),
+        .spindle_reverse (spindle_reverse),
+        .spindle_pwm     (spindle_pwm),
+        .coolant_mist    (coolant_mist),
+        .coolant_flood   (coolant_flood)
     );
 
     // the move strobe has no register (positions are read from pos)

@@ -5,10 +5,8 @@ runs regs_cocotb.py through cocotbext-wishbone and cocotbext-axi."""
 
 import pytest
 
-from halfpoint.sim.env import BUILD, rtl_sources, run_cocotb
-
-CORE = ("halfpoint_regs", "halfpoint_core", "halfpoint_arc", "halfpoint_line",
-        "halfpoint_stepgen", "halfpoint_profile")
+from halfpoint.sim.design import design_sources
+from halfpoint.sim.env import BUILD, run_cocotb
 # (top, NA, W, DEPTH, TW, DIV, MOVE_DEPTH, PROFILE_DEPTH)
 CASES = [("halfpoint_wb", 3, 32, 4, 16, 3, 4, 2),
          ("halfpoint_axil", 2, 16, 8, 4, 4, 2, 1)]
@@ -20,7 +18,7 @@ def test_regs_rtl_matches_model(case):
     name = f"{top}_na{axes}_w{width}"
     run_cocotb(
         toplevel=top,
-        sources=rtl_sources(top, *CORE),
+        sources=design_sources(top),
         test_module="regs_cocotb",
         test_dir=BUILD / "sim" / name / "run",
         parameters={"NA": axes, "W": width, "DEPTH": depth, "TW": tw, "DIV": div,

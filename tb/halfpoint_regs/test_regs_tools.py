@@ -12,16 +12,15 @@ import subprocess
 import pytest
 
 from halfpoint.flows.synth import tool
+from halfpoint.sim.design import design_sources
 from halfpoint.sim.env import BUILD, REPO
 
-MODULES = ("halfpoint_regs", "halfpoint_core", "halfpoint_arc", "halfpoint_line",
-           "halfpoint_stepgen", "halfpoint_profile")
 CASES = [("halfpoint_wb", {"NA": 3, "W": 32}), ("halfpoint_axil", {"NA": 2, "W": 16, "TW": 4})]
 IDS = [c[0] for c in CASES]
 
 
 def files(top: str) -> list[str]:
-    return [f"rtl/{m}.v" for m in (top, *MODULES)]
+    return [str(p.relative_to(REPO)) for p in design_sources(top)]
 
 
 @pytest.mark.parametrize("top, params", CASES, ids=IDS)

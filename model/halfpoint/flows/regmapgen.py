@@ -121,8 +121,12 @@ def c_header() -> str:
     lines += ["", "/* the command encoding (model/halfpoint/spec/encoding.py) */",
               f"#define HALFPOINT_CMD_WORDS {enc.CMD_WORDS}u",
               f"#define HALFPOINT_MAX_AXES {enc.MAX_AXES}u"]
-    for const in ("OP_LINE", "OP_ARC_CW", "OP_ARC_CCW", "OP_PROFILE"):
+    for const in sorted((k for k in vars(enc) if k.startswith("OP_")),
+                        key=lambda k: getattr(enc, k)):
         lines += [f"#define HALFPOINT_{const} {getattr(enc, const)}u"]
+    for name, lsb, bits in enc.OUTPUT_FIELDS:
+        lines += [f"#define HALFPOINT_CMD_OUTPUT_{name.upper()}_LSB {lsb}u",
+                  f"#define HALFPOINT_CMD_OUTPUT_{name.upper()}_BITS {bits}u"]
     lines += [f"#define HALFPOINT_FLAG_CONT 0x{enc.FLAG_CONT:X}u"]
     for code, text in enc.ERR_TEXT.items():
         const = next(k for k, v in vars(enc).items() if k.startswith("E_") and v == code)

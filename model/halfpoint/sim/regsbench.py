@@ -31,6 +31,10 @@ from .timing import StepDirChecker
 PARAMETERS = ("NA", "W", "DEPTH", "TW", "DIV", "MOVE_DEPTH", "PROFILE_DEPTH")
 
 
+# the core's spindle, laser and coolant pins, passed through by both slaves
+OUTPUT_PINS = ("spindle_enable", "spindle_reverse", "spindle_pwm", "coolant_mist",
+               "coolant_flood")
+
 class Mismatch(AssertionError):
     pass
 
@@ -102,6 +106,7 @@ class RegsBench:
             "tready": int(r.core_ready.value), "err": int(r.core_err.value),
             "err_code": int(r.core_err_code.value), "speed": int(r.core_speed.value),
             "move": int(r.core_move.value),
+            "outputs": tuple(int(getattr(self.dut, n).value) for n in OUTPUT_PINS),
         }
 
     def _expected(self) -> dict:
@@ -111,7 +116,7 @@ class RegsBench:
                 "resp_rdata": o.resp_rdata, "irq": o.irq, "step_pins": c.step_pins,
                 "dir_pins": c.dir_pins, "pos": c.pos, "busy": c.busy, "level": c.level,
                 "tready": c.tready, "err": c.err, "err_code": c.err_code, "speed": c.speed,
-                "move": c.move}
+                "move": c.move, "outputs": tuple(getattr(c, n) for n in OUTPUT_PINS)}
 
     async def _monitor(self) -> None:
         r = self.regs
