@@ -27,7 +27,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, replace
 
-from .gcode import Dwell, GcodeError, Move, Pause, ToolChange, arc_length, arc_sweep
+from .gcode import (Coolant, Dwell, GcodeError, Move, Pause, Spindle, ToolChange, arc_length,
+                    arc_sweep)
 from .planner import PLANE_AXES
 from .planner import Dwell as PlannerDwell
 from .planner import estimate_time, plan
@@ -72,8 +73,12 @@ def _plannable(m: Move) -> Move:
 
 
 def plan_items(program) -> list:
-    """The program's moves with its dwells (as ``planner.Dwell``) in program order."""
-    dwells = sorted((e for e in program.events if isinstance(e, Dwell)),
+    """The program's moves with its dwells (as ``planner.Dwell``) in program order, and a
+    stop of 0 s at each spindle or coolant change (the core changes its outputs at rest:
+    ``cam.run.plan_items_compensated``)."""
+    dwells = sorted((e if isinstance(e, Dwell) else Dwell(0.0, lineno=e.lineno,
+                                                          before=e.before)
+                     for e in program.events if isinstance(e, (Dwell, Spindle, Coolant))),
                     key=lambda e: e.before)
     items, k = [], 0
     for i, m in enumerate(program.moves):
