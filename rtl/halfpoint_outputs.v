@@ -26,11 +26,15 @@
 // counter's value during the clock, P = PWM_BITS:
 //   0         sample: speed, cruise and the settings; remainder = speed >> 6
 //   1..P      non-restoring division: one bit of speed * 2^P / (cruise << 6)
-//   P+1       clear the accumulator, addend = power >> (16 - P)
+//   P+1       clear the accumulator, addend = the power register (the base)
 //   P+2..2P+1 shift-and-add: base * quotient, one quotient bit a clock
 //   2^P-1     the duty register takes the effective duty (at the wrap)
 // So the duty lags the speed and the settings by one to two PWM periods.
 // The schedule's flags are decoded from the counter a clock early (registers).
+// The adder's operands are one LUT level from registers and its sum goes
+// straight into registers (the quotient's bits are taken from the sign a clock
+// later; the sign is kept twice, halving its fanout), so its loop is the
+// reference loop's: a sign-selected add / subtract, here 33 bits.
 //
 // Parameters: see the comment above each (an illegal value stops
 // elaboration).
@@ -94,6 +98,8 @@ module halfpoint_outputs #(
     localparam integer ACCUMULATOR_BITS = 33;
     localparam [P-1:0] COUNTER_LAST = {P{1'b1}};
     localparam [P-1:0] COUNTER_ONE = {{(P-1){1'b0}}, 1'b1};
+    // the operand's low bits take the sign from accumulator_q, the others from its copy
+    localparam integer SIGN_SPLIT = ACCUMULATOR_BITS / 2;
 
     // ---- settings -------------------------------------------------------------
     reg          enable_q, reverse_q, laser_q, dynamic_q, mist_q, flood_q;
@@ -143,9 +149,12 @@ module halfpoint_outputs #(
     // ---- counter and the schedule ---------------------------------------------
     reg  [P-1:0] counter_q;
     reg          at_start_q, dividing_q, clearing_q, multiplying_q, at_end_q;
+    // signs shifts: counter 2..2P (a clock after each division step, then the product's)
+    reg          shifting_q;
 
     // the flags of the next clock, from this clock's counter (next = counter + 1)
     wire [31:0]  counter_wide = {{(32-P){1'b0}}, counter_q};
+    wire         multiplying_next = (counter_wide >= P + 1) && (counter_wide <= 2 * P);
 
     always @(posedge clk) begin
         if (rst) begin
@@ -154,13 +163,15 @@ module halfpoint_outputs #(
             dividing_q    <= 1'b0;
             clearing_q    <= 1'b0;
             multiplying_q <= 1'b0;
+            shifting_q    <= 1'b0;
             at_end_q      <= 1'b0;
         end else begin
             counter_q     <= counter_q + COUNTER_ONE;
             at_start_q    <= (counter_q == COUNTER_LAST);
             dividing_q    <= (counter_wide < P);
             clearing_q    <= (counter_wide == P);
-            multiplying_q <= (counter_wide >= P + 1) && (counter_wide <= 2 * P);
+            multiplying_q <= multiplying_next;
+            shifting_q    <= (counter_wide >= 1) && (counter_wide <= 2 * P - 1);
             at_end_q      <= (counter_q == COUNTER_LAST - COUNTER_ONE);
         end
     end
@@ -170,8 +181,10 @@ module halfpoint_outputs #(
     reg                         sample_moving_q, sample_full_q;
     reg  [P:0]                  sample_power_q;
     reg  [ACCUMULATOR_BITS-1:0] accumulator_q;
-    reg  [P-1:0]                quotient_q;
+    reg  [P-1:0]                dividend_q;
+    reg  [P-1:0]                signs_q;
     reg  [31:0]                 addend_q;
+    reg                         multiply_add_q;
 
     // the sample: the dividend floor(speed * 2^P / 2^6) split into its high part
     // (speed >> 6, the first remainder) and its low P bits (fed in bit by bit)
@@ -185,40 +198,67 @@ module halfpoint_outputs #(
     endgenerate
     wire          speed_full = (speed[37:6] >= cruise_q);
 
-    // the one adder / subtractor: dividing, the shifted remainder with the next
-    // dividend bit, minus the divisor when the remainder is not negative, plus it
-    // when negative; multiplying, twice the product plus the addend when the
-    // quotient's top bit is set
+    // the one adder / subtractor, its operands one level of logic from registers
+    // and its sum straight into registers.  Sample: speed >> 6 plus 0.  Dividing:
+    // the shifted remainder with the next dividend bit, minus the divisor when the
+    // remainder is not negative, plus it when negative.  Multiplying: twice the
+    // product plus the addend when multiply_add (the quotient's bit) is set.
     wire          remainder_negative = accumulator_q[ACCUMULATOR_BITS-1];
-    wire          quotient_top = quotient_q[P-1];
+    // a copy of the sign (always equal to it) for the operand's high bits: it halves
+    // the sign's fanout, the loop's longest wire (keep: not merged with the original)
+    (* keep *) reg sign_copy_q;
     wire          subtract = dividing_q && !remainder_negative;
-    wire [ACCUMULATOR_BITS-1:0] shifted =
-        {accumulator_q[ACCUMULATOR_BITS-2:0], dividing_q && quotient_top};
+    wire          subtract_high = dividing_q && !sign_copy_q;
+    wire [ACCUMULATOR_BITS-1:0] shifted = at_start_q
+        ? {1'b0, speed[37:6]}
+        : {accumulator_q[ACCUMULATOR_BITS-2:0], dividend_q[P-1]};
     wire [ACCUMULATOR_BITS-1:0] addend_wide = {1'b0, addend_q};
+    wire [ACCUMULATOR_BITS-1:0] operand_select =
+        {{(ACCUMULATOR_BITS-SIGN_SPLIT){subtract_high}}, {SIGN_SPLIT{subtract}}};
     wire [ACCUMULATOR_BITS-1:0] operand =
-        dividing_q ? (addend_wide ^ {ACCUMULATOR_BITS{subtract}})
-                   : (addend_wide & {ACCUMULATOR_BITS{quotient_top}});
+        dividing_q ? (addend_wide ^ operand_select)
+                   : (addend_wide & {ACCUMULATOR_BITS{multiply_add_q}});
     wire [ACCUMULATOR_BITS-1:0] total =
         shifted + operand + {{(ACCUMULATOR_BITS-1){1'b0}}, subtract};
+    wire          accumulate = at_start_q || dividing_q || multiplying_q;
+    // multiply_add of the next clock: a multiplication step follows and the
+    // quotient's next bit (the inverted sign then on top of signs) is 1
+    wire          sign_next = shifting_q ? signs_q[P-2] : signs_q[P-1];
+
+    // the accumulator: the sum, or cleared (a synchronous reset) before the product
+    always @(posedge clk) begin
+        if (rst || clearing_q) begin
+            accumulator_q <= {ACCUMULATOR_BITS{1'b0}};
+            sign_copy_q   <= 1'b0;
+        end else if (accumulate) begin
+            accumulator_q <= total;
+            sign_copy_q   <= total[ACCUMULATOR_BITS-1];
+        end
+    end
 
     always @(posedge clk) begin
         if (rst) begin
-            accumulator_q <= {ACCUMULATOR_BITS{1'b0}};
-            quotient_q    <= {P{1'b0}};
-            addend_q      <= 32'd0;
-        end else if (at_start_q) begin
-            accumulator_q <= {1'b0, speed[37:6]};
-            quotient_q    <= dividend_low;
-            addend_q      <= cruise_q;
-        end else if (dividing_q) begin
-            accumulator_q <= total;
-            quotient_q    <= {quotient_q[P-2:0], !total[ACCUMULATOR_BITS-1]};
-        end else if (clearing_q) begin
-            accumulator_q <= {ACCUMULATOR_BITS{1'b0}};
-            addend_q      <= {{(31-P){1'b0}}, sample_power_q};
-        end else if (multiplying_q) begin
-            accumulator_q <= total;
-            quotient_q    <= {quotient_q[P-2:0], 1'b0};
+            signs_q <= {P{1'b0}};
+        end else if (shifting_q) begin
+            signs_q <= {signs_q[P-2:0], remainder_negative};
+        end
+    end
+
+    always @(posedge clk) begin
+        if (rst) begin
+            dividend_q     <= {P{1'b0}};
+            addend_q       <= 32'd0;
+            multiply_add_q <= 1'b0;
+        end else begin
+            if (at_start_q) begin
+                dividend_q <= dividend_low;
+                addend_q   <= cruise_q;
+            end else if (dividing_q) begin
+                dividend_q <= {dividend_q[P-2:0], 1'b0};
+            end else if (clearing_q) begin
+                addend_q   <= {{(31-P){1'b0}}, sample_power_q};
+            end
+            multiply_add_q <= multiplying_next && !sign_next;
         end
     end
 
@@ -228,7 +268,7 @@ module halfpoint_outputs #(
             sample_dynamic_q <= 1'b0;
             sample_moving_q  <= 1'b0;
             sample_full_q    <= 1'b0;
-            sample_power_q    <= {(P+1){1'b0}};
+            sample_power_q   <= {(P+1){1'b0}};
         end else if (at_start_q) begin
             sample_laser_q   <= laser_q;
             sample_dynamic_q <= dynamic_q;

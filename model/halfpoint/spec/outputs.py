@@ -29,13 +29,19 @@ duty               P+1     this period's duty, 0..2^P; takes the unit's result a
                            wrap (counter 2^P - 1 -> 0): one duty per period
 pwm                1       the pin, registered (see below)
 at_start .. at_end 1 each  the unit's schedule, decoded from the counter a clock
-                           early (registered): counter == 0, 1..P, P+1, P+2..2P+1,
-                           2^P - 1
+                           early (registered): at_start 0, dividing 1..P, clearing
+                           P+1, multiplying P+2..2P+1, shifting 2..2P, at_end 2^P - 1
 sample_*           1 each  the settings and the speed's tests at the sample (below)
 sample_power       P+1     the power register at the sample
-accumulator        33      remainder (two's complement), then product
-quotient           P       dividend bits, then quotient bits (shift register)
+accumulator        33      the adder's register: remainder (two's complement), then
+                           product
+dividend           P       the dividend's low bits, fed to the division from the top
+signs              P       the remainder's sign after each division step: the quotient's
+                           bits inverted (shift register, taking the accumulator's sign
+                           on the clock after each step; the multiplication reads it)
 addend             32      the divisor (the cruise speed), then the base
+multiply_add       1       the next multiplication step adds the addend (an inverted
+                           sign bit, registered a clock early)
 =================  ======  ===========================================================
 
 Effective duty (``effective_duty``) from a speed s (2^-38 BLU per clock), a cruise
@@ -50,27 +56,40 @@ speed c (2^-32) and the settings, with base = the power register (0..2^P):
   corners, and is the full power at or above the cruise speed.
 
 The unit: one 33-bit adder / subtractor, used once per clock, and shifts (no
-multiplier).  Schedule, by the counter's value during the clock (the register takes
-the new value at the clock's end):
+multiplier).  Its operands come straight from registers through one level of logic
+(the operand's select and sign, and the sample's load, are each a function of at
+most four register bits) and its sum goes straight into the accumulator (and the
+RTL's copy of its sign), so the adder's carry chain is the only thing between two
+registers
+(a 33-bit add / subtract whose operand its own sign bit selects, as the reference
+loop ``refloop_fold``).  Schedule, by the counter's value during the clock (the
+registers take the new value at the clock's end):
 
 * 0 (``at_start``), the sample: the settings registers, the speed input and the cruise
   register as they are during this clock (a ``load``, ``take`` or ``off`` at this edge
-  acts from the next sample; ``off`` still clears ``sample_enable``):
-  accumulator = s >> 6, quotient = the low P bits of M = floor(s * 2^P / 2^6) (M >> P is
-  s >> 6), addend = c, and the flags: enable, laser, dynamic, moving (s != 0), full
-  (s >> 6 >= c, i.e. s >= c << 6 since c << 6 has six zero low bits; true for c = 0).
+  acts from the next sample; ``off`` still clears ``sample_enable``): accumulator =
+  s >> 6 (through the adder, adding 0), dividend = the low P bits of M = floor(s * 2^P
+  / 2^6) (M >> P is s >> 6), addend = c, and the flags: enable, laser, dynamic, moving
+  (s != 0), full (s >> 6 >= c, i.e. s >= c << 6 since c << 6 has six zero low bits;
+  true for c = 0).
 * 1..P (``dividing``), non-restoring division of M by c, one quotient bit a clock
   (floor(M / c) = floor(s * 2^P / (c << 6)) when not full: then s >> 6 < c and the
   quotient has P bits): the shifted remainder with the next dividend bit (the
-  quotient register's top bit) gets c subtracted when the remainder is not negative,
-  c added when it is; the result's sign gives the quotient bit (1: not negative),
-  shifted into the quotient register from below.  The remainder stays in [-c, c), so
-  33 bits hold it (the shifted value's 34th bit is not needed: the sum is exact
-  modulo 2^33).  With the full flag set the steps run on and their result is unused.
-* P + 1 (``clearing``): accumulator = 0, addend = sample_power.
+  dividend register's top bit; the register shifts up) gets c subtracted when the
+  remainder is not negative, c added when it is; the result's sign is the quotient
+  bit inverted, shifted into ``signs`` from below on the next clock (2..P + 1, from
+  the accumulator's top bit, so the sum feeds nothing but the accumulator; the RTL
+  keeps a copy of that bit, ``sign_copy``, to halve its fanout).  The remainder
+  stays in [-c, c), so 33 bits hold it (the shifted value's 34th bit is not needed:
+  the sum is exact modulo 2^33).  With the full flag set the steps run on and their
+  result is unused.
+* P + 1 (``clearing``): accumulator = 0, addend = sample_power; multiply_add = the
+  quotient's top bit.
 * P + 2..2P + 1 (``multiplying``): shift-and-add, the quotient's bits from the top:
-  accumulator = 2 accumulator + (top bit ? addend : 0), the quotient shifts up; at
-  the end the accumulator is base * q < 2^33.
+  accumulator = 2 accumulator + (multiply_add ? addend : 0) (plus the dividend's top
+  bit, 0 by now), ``signs`` shifts up (P + 2..2P, taking the accumulator's top bit,
+  unused) and multiply_add takes the next quotient bit; at the end the accumulator is
+  base * q < 2^33.
 * 2^P - 1 (``at_end``): the duty register takes the effective duty, selected from the
   flags, sample_power (for q = 2^P) and accumulator >> P.  The unit needs 2P + 2 clocks
   (0..2P + 1) <= 2^P - 1 for P >= 4.
@@ -181,8 +200,9 @@ class OutputPins:
 # the registers, in the order the tests report them (the RTL's names without _q)
 REGISTERS = ("counter", "duty", "pwm", "enable", "reverse", "laser", "dynamic", "mist",
              "flood", "power", "cruise", "at_start", "dividing", "clearing", "multiplying",
-             "at_end", "sample_enable", "sample_laser", "sample_dynamic", "sample_moving",
-             "sample_full", "sample_power", "accumulator", "quotient", "addend")
+             "shifting", "at_end", "sample_enable", "sample_laser", "sample_dynamic",
+             "sample_moving", "sample_full", "sample_power", "accumulator", "dividend", "signs",
+             "addend", "multiply_add")
 
 
 class OutputStage:
@@ -207,8 +227,10 @@ class OutputStage:
         self.sample_moving = self.sample_full = 0
         self.sample_power = 0
         self.accumulator = 0
-        self.quotient = 0
+        self.dividend = 0
+        self.signs = 0
         self.addend = 0
+        self.multiply_add = 0
 
     def _decode(self, counter: int) -> None:
         """The schedule's flags for a clock with this counter value (the RTL registers
@@ -218,6 +240,7 @@ class OutputStage:
         self.dividing = int(1 <= counter <= p)
         self.clearing = int(counter == p + 1)
         self.multiplying = int(p + 2 <= counter <= 2 * p + 1)
+        self.shifting = int(2 <= counter <= 2 * p)
         self.at_end = int(counter == self.period - 1)
 
     def registers(self) -> dict:
@@ -258,13 +281,27 @@ class OutputStage:
         below = int(self.counter < self.duty)
         if self.at_end:
             self.duty = self.result()
-        # the unit
+        # the unit: the adder's operands, all from this clock's registers
+        dividend_top = self.dividend >> (p - 1)
         if self.at_start:
             s, c = i.speed, self.cruise
             if not 0 <= s < 1 << SPEED_BITS:
                 raise ValueError(f"speed {s} out of range")
-            self.accumulator = s >> SPEED_SHIFT
-            self.quotient = ((s << p) >> SPEED_SHIFT) & (self.period - 1)
+            shifted = s >> SPEED_SHIFT
+        else:
+            shifted = ((self.accumulator << 1) | dividend_top) & mask
+        subtract = int(self.dividing and not self.accumulator >> top)
+        if self.dividing:
+            operand = self.addend ^ mask if subtract else self.addend
+        else:
+            operand = self.addend if self.multiply_add else 0
+        total = (shifted + operand + subtract) & mask
+        if self.shifting:
+            # a clock after each step: its sign, from the accumulator register
+            self.signs = ((self.signs << 1) & (self.period - 1)) | (self.accumulator >> top)
+        if self.at_start:
+            self.accumulator = total
+            self.dividend = ((s << p) >> SPEED_SHIFT) & (self.period - 1)
             self.addend = c
             self.sample_power = self.power
             self.sample_enable = self.enable
@@ -272,21 +309,18 @@ class OutputStage:
             self.sample_dynamic = self.dynamic
             self.sample_moving = int(s != 0)
             self.sample_full = int(s >> SPEED_SHIFT >= c)
-        elif self.dividing:
-            shifted = ((self.accumulator << 1) | (self.quotient >> (p - 1))) & mask
-            if self.accumulator >> top:
-                total = (shifted + self.addend) & mask
-            else:
-                total = (shifted - self.addend) & mask
-            self.accumulator = total
-            self.quotient = ((self.quotient << 1) & (self.period - 1)) | (1 - (total >> top))
         elif self.clearing:
             self.accumulator = 0
             self.addend = self.sample_power
-        elif self.multiplying:
-            product = self.addend if self.quotient >> (p - 1) else 0
-            self.accumulator = ((self.accumulator << 1) + product) & mask
-            self.quotient = (self.quotient << 1) & (self.period - 1)
+        elif self.dividing or self.multiplying:
+            self.accumulator = total
+        if self.dividing:
+            self.dividend = (self.dividend << 1) & (self.period - 1)
+        # the next step adds the addend: a multiplication step follows and the
+        # quotient's next bit (the inverted sign now on top) is 1
+        next_counter = (self.counter + 1) & (self.period - 1)
+        self.multiply_add = int(p + 2 <= next_counter <= 2 * p + 1
+                                and not self.signs >> (p - 1))
         if i.take:
             if not 0 <= i.take_v_cruise < 1 << CRUISE_BITS:
                 raise ValueError(f"cruise speed {i.take_v_cruise} out of range")
