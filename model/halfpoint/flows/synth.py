@@ -70,6 +70,8 @@ TARGETS = [
            "reference: 34-bit sign-selected add/subtract, select folded into the CCU2C LUTs by hand",
            families=("ecp5",), sources=("rtl/ecp5/halfpoint_refloop_ccu2c.v",)),
     Target("halfpoint_arc", "halfpoint_arc", {"W": 32}, "arc unit, 32-bit coordinates"),
+    Target("halfpoint_outputs", "halfpoint_outputs", {"PWM_BITS": 10},
+           "spindle / laser / coolant outputs, 10-bit PWM (48.8 kHz at 50 MHz)"),
     Target("halfpoint_profile", "halfpoint_profile", {"W": 32, "DIV": 12},
            "motion-profile stage, 32-bit positions, tick 2^12 clocks (50 MHz)"),
     Target("halfpoint_core", "halfpoint_core", {"NA": 3, "W": 32, "DEPTH": 16, "TW": 16},
