@@ -27,6 +27,7 @@ CASES = [
     ("halfpoint_arc", {"W": 16}),
     ("halfpoint_arc", {"W": 32}),
     ("halfpoint_line", {"NA": 6, "W": 32}),
+    ("halfpoint_outputs", {"PWM_BITS": 16}),
 ]
 
 

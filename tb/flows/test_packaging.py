@@ -48,7 +48,6 @@ FUSESOC = VENV_BIN / "fusesoc"
 # files in rtl/ that are not part of the core file, and why
 NOT_IN_CORE = {
     "halfpoint_refloop.v": "synthesis reference (make synth), not instantiated by the core",
-    "halfpoint_outputs.v": "output stage (issue 14 item 3), not yet instantiated by the core",
 }
 # top module of each fileset: the fileset holds what it instantiates that the
 # filesets before it do not
