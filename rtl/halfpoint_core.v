@@ -44,7 +44,8 @@
 // acceleration.  abort_now (level): at each edge while it is high no move is
 // made and everything not yet moved is dropped at once; tready is low.  A STEP
 // pulse already started completes with its full timing; positions keep every
-// step made.
+// step made.  abort_now and stop pass through a register first: each acts from
+// the edge after the one that saw it high (one clock of latency).
 //
 // Rejected commands (bad opcode or reserved bits, field out of range, no
 // profile or a bad one, arc validator rejects) make no motion, set err_code
@@ -328,13 +329,27 @@ module halfpoint_core #(
     reg  [INDEX_W:0]   count_q;
     wire               pop;
     wire               push = s_axis_tvalid && s_axis_tready;
-    wire               flush;      // abort_now, or stop at rest (the profile stage)
+    wire               flush;      // abort, or stop at rest (the profile stage)
     localparam [INDEX_W:0]   QUEUE_FULL = {1'b1, {INDEX_W{1'b0}}};     // DEPTH
     localparam [INDEX_W-1:0] INDEX_ONE = {{(INDEX_W-1){1'b0}}, 1'b1};
     localparam [INDEX_W:0]   COUNT_ONE = {{INDEX_W{1'b0}}, 1'b1};
     wire               stage_stopped;  // stop at rest (the profile stage)
 
-    assign s_axis_tready = (count_q != QUEUE_FULL) && !abort_now && !stage_stopped;
+    // abort_now and stop are registered before they act: the core acts on them from
+    // the edge after they rise (they reach the reset of every stage, and a
+    // path from an input to it would set the core's clock)
+    reg                abort_q, stop_q;
+    always @(posedge clk) begin
+        if (rst) begin
+            abort_q <= 1'b0;
+            stop_q <= 1'b0;
+        end else begin
+            abort_q <= abort_now;
+            stop_q <= stop;
+        end
+    end
+
+    assign s_axis_tready = (count_q != QUEUE_FULL) && !abort_q && !stage_stopped;
     assign queue_level   = count_q;
 
     always @(posedge clk) begin
@@ -675,7 +690,7 @@ module halfpoint_core #(
     ) u_profile (
         .clk            (clk),
         .rst            (rst),
-        .abort_now      (abort_now),
+        .abort_now      (abort_q),
         .head_valid     (move_valid),
         .head_class     (head_class),
         .head_last      (head_last),
@@ -688,7 +703,7 @@ module halfpoint_core #(
         .next_d_exit    (next_profile[116 +: DW]),
         .next_d_stop    (next_profile[116 + DW +: DW]),
         .hold           (hold),
-        .stop           (stop),
+        .stop           (stop_q),
         .feed_override  (feed_override),
         .pop            (stage_pop),
         .take           (stage_take),
@@ -699,7 +714,7 @@ module halfpoint_core #(
         .busy           (stage_busy)
     );
 
-    assign flush = abort_now || stage_stopped;
+    assign flush = abort_q || stage_stopped;
     assign downstream_idle = !arc_busy && !line_busy && !move_valid && !pq_valid && !stage_busy;
 
     // ------------------------------------------------------------------

@@ -166,7 +166,9 @@ def test_a_bad_output_command_is_rejected_and_moves_nothing():
     assert run.errors == [enc.E_FIELD, enc.E_OPCODE] and not run.trace
     o = model.outputs()
     assert (o.spindle_enable, o.coolant_mist) == (1, 1)
-    model.clock(CoreInputs(abort=1))
+    model.clock(CoreInputs(abort=1))        # abort_now is registered: it acts a clock later
+    assert model.outputs().spindle_enable == 1
+    model.clock(CoreInputs())
     o = model.outputs()
     assert (o.spindle_enable, o.coolant_mist, o.spindle_pwm) == (0, 0, 0)
 

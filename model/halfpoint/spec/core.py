@@ -56,7 +56,7 @@ Data path, clock by clock (issue 13: the interpolators decoupled from the pacing
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from . import encoding as enc
 from . import profile as pf
@@ -253,7 +253,9 @@ class CoreModel:
         self.o_err = 0
         self.o_err_code = 0
         self.o_underrun = 0
-        self.abort_pin = 0          # abort and stop as last driven: tready depends on them
+        # abort_now and stop registered at each edge (the core acts on them from the
+        # edge after they rise; tready depends on these registers)
+        self.abort_pin = 0
         self.stop_pin = 0
 
     def _flush(self, i: CoreInputs, stage_in: pf.ProfileInputs | None = None) -> None:
@@ -372,7 +374,10 @@ class CoreModel:
         if i.rst:
             self.reset()
             return None
-        self.abort_pin, self.stop_pin = i.abort, i.stop
+        # the registered abort_now and stop act at this edge; the inputs enter them
+        raw_abort, raw_stop = i.abort, i.stop
+        i = replace(i, abort=self.abort_pin, stop=self.stop_pin)
+        self.abort_pin, self.stop_pin = raw_abort, raw_stop
         if i.abort:
             self._flush(i)
             return None

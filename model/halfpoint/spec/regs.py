@@ -129,8 +129,6 @@ class RegsModel:
                 self._field("DIR_TIMING", "DIRSETUP", k),
                 self._field("DIR_TIMING", "DIRHOLD", k),
                 (step_inv >> k) & 1, (dir_inv >> k) & 1)
-        self.core.abort_pin = self._field("CONTROL", "ABORT")
-        self.core.stop_pin = self._field("CONTROL", "STOP")
 
     # ------------------------------------------------------------------
     def outputs(self) -> RegsOutputs:
