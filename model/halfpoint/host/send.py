@@ -201,6 +201,9 @@ class Sender:
         start = self.last_status["position"]
         old = signal.getsignal(signal.SIGINT)
         signal.signal(signal.SIGINT, self._on_sigint)
+        if not self.quiet:
+            self.say(f"streaming {self.job.blocks} blocks to {self.board.port} "
+                     "(Ctrl-C holds the machine)")
         self._open_bar()
         try:
             for item in self.job.items:
