@@ -147,6 +147,9 @@ class Sender:
             raise JobError(f"the board runs at {ident['clock_hz']} Hz, the machine file says "
                            f"clock_hz = {self.job.clock_hz}: the plan would run at the wrong "
                            "speed; nothing was sent", 2)
+        if ident["width"] != 32:
+            raise JobError(f"the board's core is {ident['width']} bits wide, the host plans "
+                           "for 32; nothing was sent", 2)
         self.width = ident["width"]
         self.board.axes = ident["axes"]
         st = self.board.status()
@@ -227,9 +230,10 @@ class Sender:
     def _on_sigint(self, signum, frame) -> None:
         self.interrupted = True
 
-    def _events(self, wait: float = POLL_S):
-        """One event (or None); Ctrl-C handled between events."""
-        if self.interrupted:
+    def _events(self, wait: float = POLL_S, can_hold: bool = True):
+        """One event (or None); Ctrl-C handled between events (``can_hold``: no frame
+        waits for its first reply, so a HOLD's reply cannot be confused with it)."""
+        if self.interrupted and can_hold:
             self.interrupted = False
             self._hold_and_ask()
         ev = self.board.poll(wait)
@@ -245,7 +249,7 @@ class Sender:
         received = False
         status_sent = None          # time of an unanswered STATUS poll
         while True:
-            ev = self._events(0.02 if not received else POLL_S)
+            ev = self._events(0.02 if not received else POLL_S, can_hold=received)
             now = time.monotonic()
             if ev is None:
                 if not received and now - sent > self.board.timeout:

@@ -57,7 +57,8 @@ struct Checker {
     std::string first;
     void fail(int axis, long long cycle, const std::string& what) {
         if (violations++ == 0)
-            first = "axis " + std::to_string(axis) + ", cycle " + std::to_string(cycle) + ": " + what;
+            first = "axis " + std::to_string(axis) + ", cycle " + std::to_string(cycle) + ": " +
+                    what;
     }
     void sample(Axis& a, int k, long long n, int step, int dir) {
         if (!step && a.prev_step) {
@@ -279,7 +280,8 @@ int main(int argc, char** argv) {
     std::printf("steps: %s\n", steps.c_str());
     std::printf("position: %s\n", position.c_str());
     if (checker.violations)
-        std::printf("timing: %lld violations, first: %s\n", checker.violations, checker.first.c_str());
+        std::printf("timing: %lld violations, first: %s\n", checker.violations,
+                    checker.first.c_str());
     else
         std::printf("timing: ok\n");
     std::printf("clocks: %lld\n", cycle);
