@@ -159,6 +159,18 @@ def test_whole_part(machine):
     print(f"whole part: {job.blocks} blocks in {wall:.1f} s wall")
 
 
+def test_board_sim_timing_checker_catches_a_violation(machine):
+    """The harness's STEP/DIR checker told to expect STEP 1 clock longer than the
+    board makes it: it must report the violation and exit 1 (exit-when-idle)."""
+    job = plan_job_text(SHORT, machine)
+    board = BoardSim(machine, exit_when_idle=True, check={"STEPLEN": 3})
+    status, out, err = finish(send_cli(job.path, board.url, "--quiet"))
+    res = board.wait()
+    assert status == 0, err
+    assert res.status == 1 and "steplen: STEP active 2 clocks, need 3" in res.timing, res.text
+    assert res.position == job.delta
+
+
 def test_dropped_byte(machine):
     job = plan_job_text(SHORT, machine)
     with BoardSim(machine) as board:

@@ -81,11 +81,14 @@ def build(params: dict, log=None) -> Path:
     return binary
 
 
-def harness_args(params: dict, port: int, exit_when_idle: bool) -> list[str]:
+def harness_args(params: dict, port: int, exit_when_idle: bool,
+                 check: dict | None = None) -> list[str]:
+    """The harness's arguments; ``check`` overrides the timing it checks against
+    (a test that the checker catches a violation)."""
     args = ["--port", str(port), "--cpb", str(params["CLK_HZ"] // params["BAUD"]),
             "--axes", str(params["NA"])]
     for name in ("STEPLEN", "STEPSPACE", "DIRSETUP", "DIRHOLD"):
-        args += [f"--{name.lower()}", str(params[name])]
+        args += [f"--{name.lower()}", str((check or {}).get(name, params[name]))]
     return args + (["--exit-when-idle"] if exit_when_idle else [])
 
 
@@ -118,11 +121,12 @@ class BoardSim:
         board.result.position
     """
 
-    def __init__(self, machine: Machine, port: int = 0, exit_when_idle: bool = False):
+    def __init__(self, machine: Machine, port: int = 0, exit_when_idle: bool = False,
+                 check: dict | None = None):
         self.params = board_parameters(machine)
         self.binary = build(self.params)
         self.proc = subprocess.Popen([str(self.binary),
-                                      *harness_args(self.params, port, exit_when_idle)],
+                                      *harness_args(self.params, port, exit_when_idle, check)],
                                      stdout=subprocess.PIPE, text=True)
         first = self.proc.stdout.readline()
         if not first.startswith("listening on "):
