@@ -21,6 +21,7 @@ is at rest) it prints the STEP counts per axis and ``position: x,y,z`` in BLU.
 
 from __future__ import annotations
 
+import fcntl
 import hashlib
 import signal
 import subprocess
@@ -65,8 +66,16 @@ def build(params: dict, log=None) -> Path:
     binary = work / "obj" / "Vhalfpoint_uart_top"
     if binary.exists():
         return binary
-    exe = setup_verilator_env()
     work.mkdir(parents=True, exist_ok=True)
+    with open(work / "build.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)        # one build at a time (pytest -n workers)
+        if not binary.exists():
+            _build(params, work, binary, log)
+    return binary
+
+
+def _build(params: dict, work: Path, binary: Path, log) -> None:
+    exe = setup_verilator_env()
     if log:
         print("board-sim: building the simulated board (Verilator, about a minute) ...",
               file=log, flush=True)
@@ -78,7 +87,6 @@ def build(params: dict, log=None) -> Path:
     (work / "build.log").write_text(proc.stdout + proc.stderr)
     if proc.returncode != 0 or not binary.exists():
         raise BoardSimError(f"the Verilator build of the board failed, see {work / 'build.log'}")
-    return binary
 
 
 def harness_args(params: dict, port: int, exit_when_idle: bool,
