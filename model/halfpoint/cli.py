@@ -11,6 +11,7 @@
         [--substeps N]
     halfpoint demo [--out DIR] [--engine model|rtl|both]
     halfpoint send PROGRAM.ngc --port PORT [--machine FILE] [--baud N] [--quiet] [--timeout S]
+        [--radius R] [--tools FILE] [--strict]
     halfpoint board-sim [--listen [127.0.0.1:]PORT] [--machine FILE] [--exit-when-idle]
 """
 
@@ -133,6 +134,7 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--quiet", action="store_true", help="no progress bar (for scripts)")
     s.add_argument("--timeout", type=float, default=2.0,
                    help="seconds to wait for a reply before retrying (default 2)")
+    _comp_args(s)
 
     b = sub.add_parser("board-sim", help="the Verilator-simulated board top on a TCP port")
     b.add_argument("--listen", help="[127.0.0.1:]PORT to serve (default: any free port)")
@@ -151,7 +153,8 @@ def cmd_send(args) -> int:
         raise UsageError("--baud and --timeout must be positive")
     machine = load(args.machine) if args.machine else load_default()
     try:
-        return send(args.program, args.port, machine, args.baud, args.quiet, args.timeout)
+        return send(args.program, args.port, machine, args.baud, args.quiet, args.timeout,
+                    radius=args.radius, tools=args.tools, strict=args.strict)
     except LinkError as exc:
         print(f"halfpoint: {exc}; nothing more was sent", file=sys.stderr)
         return 2

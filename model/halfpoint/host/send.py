@@ -384,9 +384,11 @@ class Sender:
 
 
 def send(program: str, port: str, machine, baud: int = 115200, quiet: bool = False,
-         timeout: float = 2.0, out=sys.stderr) -> int:
-    """The ``halfpoint send`` command; returns the exit status."""
-    job = plan_job(program, machine)
+         timeout: float = 2.0, out=sys.stderr, radius=None, tools=None,
+         strict: bool = False) -> int:
+    """The ``halfpoint send`` command; returns the exit status.  ``radius``, ``tools``,
+    ``strict``: cutter compensation, as ``halfpoint run`` takes them."""
+    job = plan_job(program, machine, radius, tools, strict)
     board = Board(port, baud, timeout)
     try:
         sender = Sender(board, job, quiet, out)
