@@ -401,4 +401,10 @@ def send(program: str, port: str, machine, baud: int = 115200, quiet: bool = Fal
     print(f"done: {job.blocks} blocks, {len([i for i in job.items if i.cmd is not None])} "
           f"commands; position {pos} BLU ({mm} mm); link: {naks} NAKs, "
           f"{job.stats['resent']} frames resent", flush=True)
+    if st["flags"] & link.FLAG_DRY:
+        print("note: the core's dry flag is set: the link did not keep up with short blocks "
+              "and the core slowed down for them (a faster --baud helps)", flush=True)
+    if st["flags"] & link.FLAG_UNDERRUN:
+        print("note: the core's underrun flag is set: a block ended with no next one queued",
+              flush=True)
     return 0
