@@ -6,6 +6,8 @@ pyserial's ``socket://`` URL, with the unmodified command line in a subprocess:
   pins counted by the board-sim add up to the host's final position, timing ok;
 * a dropped byte on the link (a proxy between the two drops one): NAK, the frame
   is sent again, the part ends where it should;
+* a TAKEN lost on the way back (the proxy drops it): the status poll shows the
+  command was taken, nothing is sent twice, the part ends right;
 * a rejected block in the middle (the proxy sets a reserved bit in one motion
   command and fixes its check, so the board takes it and the core rejects it): the
   job stops naming the block's G-code line and the code; the machine came to rest
@@ -76,9 +78,11 @@ class Proxy:
     host's stream or rewrite one COMMAND frame (keeping its check good)."""
 
     def __init__(self, target_port: int, drop_byte: int | None = None,
-                 rewrite_command: int | None = None):
+                 rewrite_command: int | None = None, drop_taken: int | None = None):
         self.target = target_port
         self.drop_byte = drop_byte
+        self.drop_taken = drop_taken      # drop the board's n-th TAKEN reply
+        self.dropped_taken = False
         self.rewrite = rewrite_command
         self.server = socket.socket()
         self.server.bind(("127.0.0.1", 0))
@@ -92,7 +96,7 @@ class Proxy:
     def _serve(self):
         client, _ = self.server.accept()
         board = socket.create_connection(("127.0.0.1", self.target))
-        threading.Thread(target=self._pipe, args=(board, client), daemon=True).start()
+        threading.Thread(target=self._replies, args=(board, client), daemon=True).start()
         buf = bytearray()
         while True:
             try:
@@ -122,6 +126,36 @@ class Proxy:
                         out.append(b)
                     self.sent += 1
             board.sendall(out)
+
+    def _replies(self, src, dst):
+        """Board to host: reply by reply (spec/link.py), the n-th TAKEN dropped."""
+        if self.drop_taken is None:
+            return self._pipe(src, dst)
+        buf, taken = bytearray(), 0
+        sizes = {link.R_NAK: 2, link.R_STATUS: link.status_payload(3) + 2,
+                 link.R_IDENT: link.IDENT_PAYLOAD + 2}
+        try:
+            while True:
+                data = src.recv(4096)
+                if not data:
+                    break
+                buf += data
+                out = bytearray()
+                while buf and len(buf) >= sizes.get(buf[0], 1):
+                    n = sizes.get(buf[0], 1)
+                    if buf[0] == link.R_TAKEN:
+                        if taken == self.drop_taken:
+                            self.dropped_taken = True
+                            del buf[:1]
+                            taken += 1
+                            continue
+                        taken += 1
+                    out += buf[:n]
+                    del buf[:n]
+                dst.sendall(out)
+        except OSError:
+            pass
+        dst.close()
 
     @staticmethod
     def _pipe(src, dst):
@@ -179,6 +213,19 @@ def test_dropped_byte(machine):
         res = board.stop()
     assert status == 0, err
     assert "1 NAKs, 1 frames resent" in out, out
+    assert res.position == job.delta and res.timing == "ok", res.text
+
+
+def test_lost_reply(machine):
+    """A TAKEN lost on the way back: the sender's status poll shows the command was
+    taken; nothing is sent twice, the part ends where it should."""
+    job = plan_job_text(SHORT, machine)
+    with BoardSim(machine) as board:
+        proxy = Proxy(board.port, drop_taken=4)
+        status, out, err = finish(send_cli(job.path, proxy.url, "--quiet"))
+        res = board.stop()
+    assert proxy.dropped_taken
+    assert status == 0, err
     assert res.position == job.delta and res.timing == "ok", res.text
 
 

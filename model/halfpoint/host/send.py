@@ -295,6 +295,10 @@ class Sender:
                 status_sent = None
                 self._check_flags(ev[1], item)
                 self._progress(ev[1])
+                if received and (ev[1]["taken"] - self.taken_base) & 0xFFFF > self.taken:
+                    self.taken += 1         # its TAKEN was lost on the way back
+                    self.job.stats["lost_replies"] = self.job.stats.get("lost_replies", 0) + 1
+                    return
 
     def _resend(self, frame: bytes, tries: int, item: Item, why: str) -> int:
         tries += 1
