@@ -156,7 +156,7 @@ def cmd_send(args) -> int:
         return send(args.program, args.port, machine, args.baud, args.quiet, args.timeout,
                     radius=args.radius, tools=args.tools, strict=args.strict)
     except LinkError as exc:
-        print(f"halfpoint: {exc}; nothing more was sent", file=sys.stderr)
+        print(f"halfpoint: {exc}", file=sys.stderr)
         return 2
     except JobError as exc:
         print(f"halfpoint: {args.program}: {exc}", file=sys.stderr)

@@ -36,6 +36,7 @@ class Board:
         self.axes = 3
         self.buffer = bytearray()
         self.events: deque = deque()
+        self.commands_written = 0       # COMMAND frames written (resends included)
         try:
             self.serial = serial.serial_for_url(port, baudrate=baud, timeout=0.02,
                                                 write_timeout=timeout)
@@ -52,6 +53,8 @@ class Board:
     def write(self, data: bytes) -> None:
         import serial
 
+        if data[:1] == bytes([link.F_COMMAND]):
+            self.commands_written += 1
         try:
             self.serial.write(data)
             self.serial.flush()

@@ -393,10 +393,18 @@ def send(program: str, port: str, machine, baud: int = 115200, quiet: bool = Fal
     """The ``halfpoint send`` command; returns the exit status.  ``radius``, ``tools``,
     ``strict``: cutter compensation, as ``halfpoint run`` takes them."""
     job = plan_job(program, machine, radius, tools, strict)
-    board = Board(port, baud, timeout)
+    try:
+        board = Board(port, baud, timeout)
+    except LinkError as exc:
+        raise LinkError(f"{exc}; nothing was sent") from None
     try:
         sender = Sender(board, job, quiet, out)
         st = sender.run()
+    except LinkError as exc:
+        if not board.commands_written:
+            raise LinkError(f"{exc}; nothing was sent") from None
+        raise LinkError(f"{exc}; the job stopped after {sender.taken} commands taken by the "
+                        "board (the machine may still be moving: check it)") from None
     finally:
         board.close()
     pos = ",".join(str(p) for p in st["position"])
