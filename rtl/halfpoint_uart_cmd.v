@@ -1,51 +1,67 @@
 // SPDX-License-Identifier: Apache-2.0
 `default_nettype none
 // ============================================================================
-// halfpoint_uart_cmd: serial command port for the motion core (UART 8N1 in,
-// 256-bit AXI4-Stream commands out, one acknowledge byte back per command)
+// halfpoint_uart_cmd: the serial link of a board top -- UART 8N1 frames in,
+// 256-bit AXI4-Stream commands to the motion core out, replies back: receipt,
+// taken, refusals, status (positions, queue level, flags), identification;
+// feed hold, resume and a controlled stop as commands
 // ============================================================================
-// Receives bytes at BAUD (8 data bits, no parity, 1 stop bit, LSB first),
-// assembles 32 of them into one command word (byte k -> m_axis_tdata[8k+7:8k],
-// i.e. the command's little-endian byte string; the width comes from the
-// generated halfpoint_cmd.vh, see model/halfpoint/spec/encoding.py) and
-// offers it on m_axis.  When the core takes the word
-// (tvalid & tready) one acknowledge byte is sent on `tx`:
+// The protocol is defined once, in model/halfpoint/spec/link.py (its
+// docstring is the full description); its constants come from the generated
+// rtl/halfpoint_link.vh.  In short:
 //
-//   bit 7    1 (marks an acknowledge)
-//   bit 6    a line error since the last acknowledge: a bad stop bit, a byte
-//            that arrived while a word was waiting for the core (dropped), or
-//            a partial word discarded by the idle timeout
-//   bit 5    the core rejected a command since the last acknowledge
-//            (cmd_err pulses)
-//   bit 4    0
-//   bits 3:0 the error code of the latest rejected command (0 if none)
+//   host -> board  [opcode] [payload] [CRC-8 of both]
+//       COMMAND (32-byte command word, little-endian), STATUS, HOLD, RESUME,
+//       STOP, IDENT
+//   board -> host  RECEIVED (a whole frame, good check), TAKEN (the core took
+//       the waiting command), NAK + reason (refused, no effect), STATUS and
+//       IDENT replies (first byte, payload, CRC-8)
 //
-// Flow control is by the acknowledge: the host sends a command's 32 bytes,
-// then waits for its acknowledge before sending the next one, so a word
-// never waits while more bytes arrive; the core's own queue keeps motion
-// going while the host waits.  A word the host started but did not finish
-// within IDLE_BITS bit times of silence is discarded (and flagged), so the
-// byte count resynchronises after a host restart.
+// One command word waits here for the core (m_axis); the host sends the next
+// COMMAND after the TAKEN of the previous one, so the core's queue stays full
+// and the link never overruns it.  Other frames are taken at any time.  A line
+// error (bad check, bad stop bit, unknown opcode, a frame left unfinished)
+// discards the frame and is reported (NAK) once the line has been quiet for
+// IDLE_BITS bit times, so the host resends the frame whole.
+//
+// A command the core rejects (cmd_err) latches FAULT with the command's index
+// (commands taken since reset, minus the queue level, minus one: the core
+// rejects at its queue head, in order) and code, asserts core_stop, drops a
+// waiting command (NAK STOPPED) and refuses COMMAND frames until a STOP frame.
+// STOP clears FAULT and the hold, drops a waiting command, and asserts
+// core_stop until the core is at rest and empty (busy low, queue empty).
 //
 // Receiver: rx goes through a two-flip-flop synchroniser; a start bit is
 // confirmed at its middle, data bits are sampled at their middles, a low
-// stop bit is a framing error (byte dropped, flagged).
+// stop bit is a framing error.  Transmitter: one reply at a time, whole; when
+// several wait the order is NAK (line), RECEIVED, NAK (stopped), TAKEN,
+// STATUS, IDENT.  A STATUS reply's values are sampled when it starts.
 //
 // Parameters: see the comment above each (an illegal value stops
 // elaboration).
 //
-// Reset: synchronous, active high; clears the partial word, the pending word,
-// the flags and the transmitter (tx idles high).
+// Reset: synchronous, active high; clears the frame in progress, the waiting
+// word, the replies, hold, stop, FAULT and the count of commands taken
+// (tx idles high).
 // ============================================================================
 `include "halfpoint_cmd.vh"
+`include "halfpoint_link.vh"
 
 module halfpoint_uart_cmd #(
-    // clock frequency in Hz
+    // clock frequency in Hz (reported in the IDENT reply), 1..2^32-1
     parameter integer CLK_HZ    = 12000000,
     // bit rate; CLK_HZ / BAUD must be at least 8
     parameter integer BAUD      = 115200,
-    // bit times of silence after which a partial word is discarded, 12..1000
-    parameter integer IDLE_BITS = 40
+    // bit times of silence after which a partial or bad frame is refused, 12..1000
+    parameter integer IDLE_BITS = 40,
+    // the core's axes, 2..6 (the STATUS reply carries NA positions)
+    parameter integer NA        = 3,
+    // the core's position width, 8..32 (positions are sign-extended to 32 bits)
+    parameter integer W         = 32,
+    // the core's queue depth, 2..256 (reported; sizes queue_level)
+    parameter integer DEPTH     = 16,
+    // the core's profile tick exponent, 1..24 (reported in the IDENT reply)
+    parameter integer DIV       = 10
 ) (
     input  wire                           clk,
     input  wire                           rst,
@@ -64,10 +80,23 @@ module halfpoint_uart_cmd #(
     output wire [`HALFPOINT_CMD_BITS-1:0] m_axis_tdata,
 
     /*
-     * The core's reject report (its err and err_code outputs)
+     * The core's status: reject report (err, err_code), positions, queue
+     * level, busy, the sticky underrun and dry flags, the abort input
      */
     input  wire                           cmd_err,
-    input  wire [`HALFPOINT_ERR_CODE_BITS-1:0] cmd_err_code
+    input  wire [`HALFPOINT_ERR_CODE_BITS-1:0] cmd_err_code,
+    input  wire [NA*W-1:0]                core_pos,
+    input  wire [$clog2(DEPTH):0]         core_level,
+    input  wire                           core_busy,
+    input  wire                           core_underrun,
+    input  wire                           core_dry,
+    input  wire                           core_abort,
+
+    /*
+     * To the core: feed hold and controlled stop (levels)
+     */
+    output wire                           core_hold,
+    output wire                           core_stop
 );
 
     localparam integer CLOCKS_PER_BIT = CLK_HZ / BAUD;
@@ -75,10 +104,15 @@ module halfpoint_uart_cmd #(
     localparam [31:0]  CLOCKS_PER_BIT_32 = CLOCKS_PER_BIT;
     localparam [31:0]  HALF_BIT_32       = CLOCKS_PER_BIT / 2 - 1;
     localparam [31:0]  IDLE_CLOCKS_32    = CLOCKS_PER_BIT * IDLE_BITS;
-    localparam integer CMD_BYTES    = `HALFPOINT_CMD_BITS / 8;     // bytes of a command
-    localparam integer BYTE_COUNT_W = $clog2(CMD_BYTES);
-    localparam [31:0]  LAST_BYTE_32 = CMD_BYTES - 1;
-    localparam [BYTE_COUNT_W-1:0] LAST_BYTE = LAST_BYTE_32[BYTE_COUNT_W-1:0];
+    localparam integer CMD_BYTES    = `HALFPOINT_LINK_COMMAND_BYTES;
+    localparam integer LEVEL_W      = $clog2(DEPTH) + 1;
+    // reply frames: first byte, payload, check
+    localparam integer STATUS_BYTES = 1 + 4 * NA + `HALFPOINT_LINK_STATUS_TAIL;
+    localparam integer IDENT_BYTES  = 1 + `HALFPOINT_LINK_IDENT_PAYLOAD;
+    localparam integer FRAME_BYTES  = (STATUS_BYTES > IDENT_BYTES) ? STATUS_BYTES
+                                                                   : IDENT_BYTES;
+    localparam [31:0]  STATUS_LEN_32 = STATUS_BYTES + 1;
+    localparam [31:0]  IDENT_LEN_32  = IDENT_BYTES + 1;
     wire [COUNT_W-1:0] clocks_per_bit = CLOCKS_PER_BIT_32[COUNT_W-1:0];
     wire [COUNT_W-1:0] half_bit       = HALF_BIT_32[COUNT_W-1:0];
     wire [COUNT_W-1:0] idle_clocks    = IDLE_CLOCKS_32[COUNT_W-1:0];
@@ -90,7 +124,34 @@ module halfpoint_uart_cmd #(
         if (IDLE_BITS < 12 || IDLE_BITS > 1000) begin : g_bad_idle
             halfpoint_uart_cmd_illegal_parameter_IDLE_BITS_must_be_12_to_1000 u_bad ();
         end
+        if (NA < 2 || NA > 6) begin : g_bad_na
+            halfpoint_uart_cmd_illegal_parameter_NA_must_be_2_to_6 u_bad ();
+        end
+        if (W < 8 || W > 32) begin : g_bad_w
+            halfpoint_uart_cmd_illegal_parameter_W_must_be_8_to_32 u_bad ();
+        end
+        if (DEPTH < 2 || DEPTH > 256) begin : g_bad_depth
+            halfpoint_uart_cmd_illegal_parameter_DEPTH_must_be_2_to_256 u_bad ();
+        end
+        if (DIV < 1 || DIV > 24) begin : g_bad_div
+            halfpoint_uart_cmd_illegal_parameter_DIV_must_be_1_to_24 u_bad ();
+        end
     endgenerate
+
+    // CRC-8 of the link (spec/link.py crc8): one byte into the register, MSB first
+    function [7:0] crc8_byte;
+        input [7:0] crc;
+        input [7:0] data;
+        integer     k;
+        reg [7:0]   c;
+        begin
+            c = crc ^ data;
+            for (k = 0; k < 8; k = k + 1) begin
+                c = c[7] ? ({c[6:0], 1'b0} ^ `HALFPOINT_LINK_CRC_POLY) : {c[6:0], 1'b0};
+            end
+            crc8_byte = c;
+        end
+    endfunction
 
     // ---------------------------------------------------------------- receiver
     reg [1:0]         rx_sync_q;
@@ -100,7 +161,7 @@ module halfpoint_uart_cmd #(
     reg [COUNT_W-1:0] rx_count_q;       // clocks to the next sample point
     reg [7:0]         rx_shift_q;
     reg               byte_valid_q;     // a good byte in rx_shift_q (one clock)
-    reg               frame_err_q;      // a bad stop bit or start glitch (one clock)
+    reg               frame_err_q;      // a bad stop bit (one clock)
 
     always @(posedge clk) begin
         if (rst) begin
@@ -138,7 +199,6 @@ module halfpoint_uart_cmd #(
                 rx_shift_q <= {rx_synced, rx_shift_q[7:1]};
                 rx_bit_q   <= rx_bit_q + 1'b1;
             end else begin
-                // stop bit: wait for the line to be high again before idling
                 rx_busy_q    <= 1'b0;
                 byte_valid_q <= rx_synced;
                 frame_err_q  <= !rx_synced;
@@ -146,84 +206,308 @@ module halfpoint_uart_cmd #(
         end
     end
 
-    // --------------------------------------------------------------- assembler
+    // clocks of silence since the last byte; idle_tick: IDLE_BITS bit times reached
+    reg [COUNT_W-1:0] idle_count_q;
+    always @(posedge clk) begin
+        if (rst || byte_valid_q || frame_err_q || rx_busy_q) begin
+            idle_count_q <= {COUNT_W{1'b0}};
+        end else if (idle_count_q != idle_clocks) begin
+            idle_count_q <= idle_count_q + 1'b1;
+        end
+    end
+    wire idle_tick = !byte_valid_q && !frame_err_q && !rx_busy_q &&
+                     idle_count_q == idle_clocks - 1'b1;
+
+    // ------------------------------------------------------------ frame parser
+    localparam [1:0] PS_OPCODE  = 2'd0;     // the next byte is an opcode
+    localparam [1:0] PS_PAYLOAD = 2'd1;     // a COMMAND's payload
+    localparam [1:0] PS_CHECK   = 2'd2;     // the next byte is the check
+    localparam [1:0] PS_DISCARD = 2'd3;     // a bad frame: ignore bytes until idle
+
+    reg [1:0]                          parse_q;
+    reg [7:0]                          opcode_q;
+    reg [5:0]                          payload_left_q;   // payload bytes after this one
+    reg [7:0]                          rx_crc_q;
+    reg [7:0]                          discard_reason_q;
     reg [`HALFPOINT_CMD_BITS-1:0]      word_q;
-    reg [BYTE_COUNT_W-1:0]             byte_count_q;  // bytes of the word received so far
-    reg                                full_q;        // word_q waits for the core
-    reg [COUNT_W-1:0]                  idle_count_q;  // clocks of silence since the last byte
-    reg                                line_err_q;    // sticky until the next acknowledge
-    reg                                cmd_err_q;
-    reg [`HALFPOINT_ERR_CODE_BITS-1:0] cmd_code_q;
-    reg                                ack_req_q;     // an acknowledge byte is to be sent
-    reg [7:0]                          ack_byte_q;
-    wire                               take = full_q && m_axis_tready;
-    wire                               ack_start;     // the transmitter takes the acknowledge
+    reg                                full_q;           // word_q waits for the core
+    reg                                hold_q;
+    reg                                stop_q;
+    reg                                fault_q;
+    reg [15:0]                         taken_q;          // commands the core took
+    reg [15:0]                         reject_index_q;
+    reg [`HALFPOINT_ERR_CODE_BITS-1:0] reject_code_q;
+    // replies waiting for the transmitter
+    reg                                nak_line_pend_q;
+    reg [7:0]                          nak_line_reason_q;
+    reg                                received_pend_q;
+    reg                                nak_stopped_pend_q;
+    reg                                taken_pend_q;
+    reg                                status_pend_q;
+    reg                                ident_pend_q;
+
+    wire       take = full_q && m_axis_tready;
+    wire [7:0] rx_byte = rx_shift_q;
+    wire       check_ok = rx_byte == rx_crc_q;
+    wire       opcode_control = rx_byte == `HALFPOINT_LINK_F_STATUS ||
+                                rx_byte == `HALFPOINT_LINK_F_HOLD ||
+                                rx_byte == `HALFPOINT_LINK_F_RESUME ||
+                                rx_byte == `HALFPOINT_LINK_F_STOP ||
+                                rx_byte == `HALFPOINT_LINK_F_IDENT;
+    // a whole frame with a good check, by kind (one clock)
+    wire       frame_ok = byte_valid_q && parse_q == PS_CHECK && check_ok;
+    wire       got_command = frame_ok && opcode_q == `HALFPOINT_LINK_F_COMMAND;
+    wire       got_stop    = frame_ok && opcode_q == `HALFPOINT_LINK_F_STOP;
+    wire       refused     = stop_q || fault_q;   // COMMAND frames are refused
+    wire [15:0] level_16   = {{(16 - LEVEL_W){1'b0}}, core_level};
+    wire       new_fault   = cmd_err && !fault_q;
+    // the waiting word is dropped by a STOP or a reject (unless the core takes it now)
+    wire       drop_waiting = full_q && !take && (got_stop || new_fault);
+    // the stop ends once the core is at rest and empty
+    wire       stop_done = stop_q && !got_stop && !new_fault && !core_busy &&
+                           core_level == {LEVEL_W{1'b0}};
+
+    // the transmitter picks a reply when it is free (below)
+    wire       pick;
+    wire       pick_nak_line    = pick && nak_line_pend_q;
+    wire       pick_received    = pick && !nak_line_pend_q && received_pend_q;
+    wire       pick_nak_stopped = pick && !nak_line_pend_q && !received_pend_q &&
+                                  nak_stopped_pend_q;
+    wire       pick_taken       = pick && !nak_line_pend_q && !received_pend_q &&
+                                  !nak_stopped_pend_q && taken_pend_q;
+    wire       pick_status      = pick && !nak_line_pend_q && !received_pend_q &&
+                                  !nak_stopped_pend_q && !taken_pend_q && status_pend_q;
+    wire       pick_ident       = pick && !nak_line_pend_q && !received_pend_q &&
+                                  !nak_stopped_pend_q && !taken_pend_q && !status_pend_q &&
+                                  ident_pend_q;
 
     always @(posedge clk) begin
         if (rst) begin
-            word_q       <= {`HALFPOINT_CMD_BITS{1'b0}};
-            byte_count_q <= {BYTE_COUNT_W{1'b0}};
-            full_q       <= 1'b0;
-            idle_count_q <= {COUNT_W{1'b0}};
-            line_err_q   <= 1'b0;
-            cmd_err_q    <= 1'b0;
-            cmd_code_q   <= {`HALFPOINT_ERR_CODE_BITS{1'b0}};
-            ack_req_q    <= 1'b0;
-            ack_byte_q   <= 8'd0;
+            parse_q            <= PS_OPCODE;
+            opcode_q           <= 8'd0;
+            payload_left_q     <= 6'd0;
+            rx_crc_q           <= 8'd0;
+            discard_reason_q   <= 8'd0;
+            word_q             <= {`HALFPOINT_CMD_BITS{1'b0}};
+            full_q             <= 1'b0;
+            hold_q             <= 1'b0;
+            stop_q             <= 1'b0;
+            fault_q            <= 1'b0;
+            taken_q            <= 16'd0;
+            reject_index_q     <= 16'd0;
+            reject_code_q      <= {`HALFPOINT_ERR_CODE_BITS{1'b0}};
+            nak_line_pend_q    <= 1'b0;
+            nak_line_reason_q  <= 8'd0;
+            received_pend_q    <= 1'b0;
+            nak_stopped_pend_q <= 1'b0;
+            taken_pend_q       <= 1'b0;
+            status_pend_q      <= 1'b0;
+            ident_pend_q       <= 1'b0;
         end else begin
-            if (byte_valid_q || rx_busy_q) begin
-                idle_count_q <= {COUNT_W{1'b0}};
-            end else if (idle_count_q != idle_clocks) begin
-                idle_count_q <= idle_count_q + 1'b1;
-            end
-            if (byte_valid_q) begin
-                if (full_q) begin
-                    line_err_q <= 1'b1;         // host did not wait: byte dropped
-                end else begin
-                    word_q       <= {rx_shift_q, word_q[`HALFPOINT_CMD_BITS-1:8]};
-                    byte_count_q <= byte_count_q + 1'b1;
-                    if (byte_count_q == LAST_BYTE) begin
-                        full_q <= 1'b1;
-                    end
-                end
-            end else if (idle_count_q == idle_clocks - 1'b1 &&
-                         byte_count_q != {BYTE_COUNT_W{1'b0}}) begin
-                byte_count_q <= {BYTE_COUNT_W{1'b0}};   // an unfinished word: discard
-                line_err_q <= 1'b1;
-            end
+            // replies handed to the transmitter (a new one of a kind, below, wins)
+            if (pick_nak_line)    nak_line_pend_q    <= 1'b0;
+            if (pick_received)    received_pend_q    <= 1'b0;
+            if (pick_nak_stopped) nak_stopped_pend_q <= 1'b0;
+            if (pick_taken)       taken_pend_q       <= 1'b0;
+            if (pick_status)      status_pend_q      <= 1'b0;
+            if (pick_ident)       ident_pend_q       <= 1'b0;
+
+            // frames
             if (frame_err_q) begin
-                line_err_q <= 1'b1;
+                parse_q          <= PS_DISCARD;
+                discard_reason_q <= `HALFPOINT_LINK_NAK_FRAMING;
+            end else if (byte_valid_q) begin
+                case (parse_q)
+                    PS_OPCODE: begin
+                        opcode_q       <= rx_byte;
+                        rx_crc_q       <= crc8_byte(8'd0, rx_byte);
+                        payload_left_q <= CMD_BYTES[5:0] - 6'd1;
+                        if (rx_byte == `HALFPOINT_LINK_F_COMMAND) begin
+                            if (full_q) begin
+                                parse_q          <= PS_DISCARD;
+                                discard_reason_q <= `HALFPOINT_LINK_NAK_BUSY;
+                            end else begin
+                                parse_q <= PS_PAYLOAD;
+                            end
+                        end else if (opcode_control) begin
+                            parse_q <= PS_CHECK;
+                        end else begin
+                            parse_q          <= PS_DISCARD;
+                            discard_reason_q <= `HALFPOINT_LINK_NAK_OPCODE;
+                        end
+                    end
+                    PS_PAYLOAD: begin
+                        rx_crc_q <= crc8_byte(rx_crc_q, rx_byte);
+                        word_q   <= {rx_byte, word_q[`HALFPOINT_CMD_BITS-1:8]};
+                        payload_left_q <= payload_left_q - 6'd1;
+                        if (payload_left_q == 6'd0) begin
+                            parse_q <= PS_CHECK;
+                        end
+                    end
+                    PS_CHECK: begin
+                        parse_q <= PS_OPCODE;
+                        if (!check_ok) begin
+                            nak_line_pend_q   <= 1'b1;
+                            nak_line_reason_q <= `HALFPOINT_LINK_NAK_CHECK;
+                        end
+                    end
+                    default: ;                  // PS_DISCARD: until the line is idle
+                endcase
+            end else if (idle_tick && parse_q != PS_OPCODE) begin
+                parse_q           <= PS_OPCODE;
+                nak_line_pend_q   <= 1'b1;
+                nak_line_reason_q <= (parse_q == PS_DISCARD) ? discard_reason_q
+                                                              : `HALFPOINT_LINK_NAK_INCOMPLETE;
             end
-            if (cmd_err) begin
-                cmd_err_q  <= 1'b1;
-                cmd_code_q <= cmd_err_code;
+
+            // what a good frame does
+            if (got_command) begin
+                if (refused) begin
+                    nak_stopped_pend_q <= 1'b1;
+                end else begin
+                    full_q          <= 1'b1;
+                    received_pend_q <= 1'b1;
+                end
             end
+            if (frame_ok) begin
+                case (opcode_q)
+                    `HALFPOINT_LINK_F_STATUS: status_pend_q <= 1'b1;
+                    `HALFPOINT_LINK_F_IDENT:  ident_pend_q  <= 1'b1;
+                    `HALFPOINT_LINK_F_HOLD: begin
+                        hold_q          <= 1'b1;
+                        received_pend_q <= 1'b1;
+                    end
+                    `HALFPOINT_LINK_F_RESUME: begin
+                        hold_q          <= 1'b0;
+                        received_pend_q <= 1'b1;
+                    end
+                    `HALFPOINT_LINK_F_STOP: begin
+                        hold_q          <= 1'b0;
+                        received_pend_q <= 1'b1;
+                    end
+                    default: ;
+                endcase
+            end
+
+            // the core
             if (take) begin
-                full_q     <= 1'b0;
-                ack_req_q  <= 1'b1;
-                // flags raised in this very clock are reported with this word
-                ack_byte_q <= {1'b1, line_err_q | frame_err_q | (byte_valid_q & full_q),
-                               cmd_err_q | cmd_err, 1'b0,
-                               cmd_err ? cmd_err_code : cmd_code_q};
-                line_err_q <= 1'b0;
-                cmd_err_q  <= 1'b0;
-                cmd_code_q <= {`HALFPOINT_ERR_CODE_BITS{1'b0}};
-            end else if (ack_start) begin
-                ack_req_q <= 1'b0;
+                full_q       <= 1'b0;
+                taken_q      <= taken_q + 16'd1;
+                taken_pend_q <= 1'b1;
+            end
+            if (drop_waiting) begin
+                full_q             <= 1'b0;
+                nak_stopped_pend_q <= 1'b1;
+            end
+            if (got_stop) begin
+                fault_q <= 1'b0;
+                stop_q  <= 1'b1;
+            end else if (new_fault) begin
+                fault_q        <= 1'b1;
+                stop_q         <= 1'b1;
+                reject_code_q  <= cmd_err_code;
+                reject_index_q <= taken_q - level_16 - 16'd1;
+            end else if (stop_done) begin
+                stop_q <= 1'b0;
             end
         end
     end
 
     assign m_axis_tvalid = full_q;
     assign m_axis_tdata  = word_q;
+    assign core_hold     = hold_q;
+    assign core_stop     = stop_q;
 
-    // ------------------------------------------------------------- transmitter
+    // ---------------------------------------------------------------- replies
+    // the STATUS payload: positions (sign-extended to 32 bits), level
+    // (saturated at 255), flags, taken, reject index, reject code
+    wire [32*NA-1:0] pos_32;
+    genvar a;
+    generate
+        for (a = 0; a < NA; a = a + 1) begin : g_pos
+            assign pos_32[32*a +: 32] = {{(32 - W){core_pos[W*a + W - 1]}},
+                                         core_pos[W*a +: W]};
+        end
+    endgenerate
+    wire [7:0] level_8 = (level_16 > 16'd255) ? 8'd255 : level_16[7:0];
+    wire [7:0] flags = (core_busy     ? `HALFPOINT_LINK_FLAG_BUSY     : 8'd0) |
+                       (hold_q        ? `HALFPOINT_LINK_FLAG_HOLD     : 8'd0) |
+                       (stop_q        ? `HALFPOINT_LINK_FLAG_STOPPING : 8'd0) |
+                       (fault_q       ? `HALFPOINT_LINK_FLAG_FAULT    : 8'd0) |
+                       (core_underrun ? `HALFPOINT_LINK_FLAG_UNDERRUN : 8'd0) |
+                       (core_dry      ? `HALFPOINT_LINK_FLAG_DRY      : 8'd0) |
+                       (core_abort    ? `HALFPOINT_LINK_FLAG_ABORT    : 8'd0) |
+                       (full_q        ? `HALFPOINT_LINK_FLAG_WAITING  : 8'd0);
+    wire [8*STATUS_BYTES-1:0] status_frame = {
+        {(8 - `HALFPOINT_ERR_CODE_BITS){1'b0}}, reject_code_q, reject_index_q, taken_q,
+        flags, level_8, pos_32, `HALFPOINT_LINK_R_STATUS};
+    localparam [31:0] CLK_HZ_32 = CLK_HZ;
+    localparam [31:0] BAUD_32   = BAUD;
+    localparam [31:0] NA_32     = NA;
+    localparam [31:0] W_32      = W;
+    localparam [31:0] DEPTH_32  = DEPTH;
+    localparam [31:0] DIV_32    = DIV;
+    wire [8*IDENT_BYTES-1:0] ident_frame = {
+        DIV_32[7:0], BAUD_32, CLK_HZ_32, DEPTH_32[15:0], W_32[7:0], NA_32[7:0],
+        `HALFPOINT_LINK_PROTOCOL_VERSION, `HALFPOINT_LINK_R_IDENT};
+
+    // frame sender: the bytes of the reply in progress, first byte lowest
+    reg [8*FRAME_BYTES-1:0] frame_shift_q;
+    reg [5:0]               frame_left_q;   // bytes still to send (the check included)
+    reg                     frame_check_q;  // the last byte is the check
+    reg [7:0]               tx_crc_q;
+
+    // byte transmitter
     reg [9:0]         tx_shift_q;       // stop, data[7:0], start; LSB on the line
     reg [3:0]         tx_left_q;        // bit times still to send: 10 bits + 1 whole stop bit
     reg [COUNT_W-1:0] tx_count_q;
     reg               tx_q;
+    wire              tx_idle = tx_left_q == 4'd0;
+    assign pick = tx_idle && frame_left_q == 6'd0;
+    wire [7:0]        next_byte = (frame_left_q == 6'd1 && frame_check_q) ? tx_crc_q
+                                                                          : frame_shift_q[7:0];
 
-    assign ack_start = ack_req_q && tx_left_q == 4'd0;
+    always @(posedge clk) begin
+        if (rst) begin
+            frame_shift_q <= {(8 * FRAME_BYTES){1'b0}};
+            frame_left_q  <= 6'd0;
+            frame_check_q <= 1'b0;
+            tx_crc_q      <= 8'd0;
+        end else if (pick) begin
+            tx_crc_q <= 8'd0;
+            if (pick_nak_line) begin
+                frame_shift_q <= {{(8 * FRAME_BYTES - 16){1'b0}}, nak_line_reason_q,
+                                  `HALFPOINT_LINK_R_NAK};
+                frame_left_q  <= 6'd2;
+                frame_check_q <= 1'b0;
+            end else if (pick_received) begin
+                frame_shift_q <= {{(8 * FRAME_BYTES - 8){1'b0}}, `HALFPOINT_LINK_R_RECEIVED};
+                frame_left_q  <= 6'd1;
+                frame_check_q <= 1'b0;
+            end else if (pick_nak_stopped) begin
+                frame_shift_q <= {{(8 * FRAME_BYTES - 16){1'b0}}, `HALFPOINT_LINK_NAK_STOPPED,
+                                  `HALFPOINT_LINK_R_NAK};
+                frame_left_q  <= 6'd2;
+                frame_check_q <= 1'b0;
+            end else if (pick_taken) begin
+                frame_shift_q <= {{(8 * FRAME_BYTES - 8){1'b0}}, `HALFPOINT_LINK_R_TAKEN};
+                frame_left_q  <= 6'd1;
+                frame_check_q <= 1'b0;
+            end else if (pick_status) begin
+                frame_shift_q <= {{(8 * (FRAME_BYTES - STATUS_BYTES)){1'b0}}, status_frame};
+                frame_left_q  <= STATUS_LEN_32[5:0];
+                frame_check_q <= 1'b1;
+            end else if (pick_ident) begin
+                frame_shift_q <= {{(8 * (FRAME_BYTES - IDENT_BYTES)){1'b0}}, ident_frame};
+                frame_left_q  <= IDENT_LEN_32[5:0];
+                frame_check_q <= 1'b1;
+            end
+        end else if (tx_idle && frame_left_q != 6'd0) begin
+            frame_shift_q <= {8'd0, frame_shift_q[8*FRAME_BYTES-1:8]};
+            frame_left_q  <= frame_left_q - 6'd1;
+            tx_crc_q      <= crc8_byte(tx_crc_q, next_byte);
+        end
+    end
 
     always @(posedge clk) begin
         if (rst) begin
@@ -231,10 +515,10 @@ module halfpoint_uart_cmd #(
             tx_left_q  <= 4'd0;
             tx_count_q <= {COUNT_W{1'b0}};
             tx_q       <= 1'b1;
-        end else if (tx_left_q == 4'd0) begin
+        end else if (tx_idle) begin
             tx_q <= 1'b1;
-            if (ack_req_q) begin
-                tx_shift_q <= {1'b1, ack_byte_q, 1'b0};
+            if (frame_left_q != 6'd0) begin
+                tx_shift_q <= {1'b1, next_byte, 1'b0};
                 tx_left_q  <= 4'd11;
                 tx_count_q <= {COUNT_W{1'b0}};
             end

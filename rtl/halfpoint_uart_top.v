@@ -6,10 +6,13 @@
 // ============================================================================
 // The top that constraints/ maps onto two boards (iCE40-HX8K Breakout Board:
 // constraints/hx8k_breakout.pcf; ULX3S with LFE5U-25F: constraints/
-// ulx3s.lpf).  A host sends 32-byte commands (model/halfpoint/spec/
-// encoding.py, little-endian; halfpoint_cmd.vh is generated from it) over
-// the board's USB serial port and waits for one acknowledge byte per command
-// (halfpoint_uart_cmd); the core's queue keeps the motion going meanwhile.
+// ulx3s.lpf).  A host (`halfpoint send`) streams commands (model/halfpoint/
+// spec/encoding.py) over the board's USB serial port in the frames of the
+// serial link (model/halfpoint/spec/link.py, halfpoint_uart_cmd): each
+// COMMAND is acknowledged when the core takes it, so the core's queue stays
+// full; the host polls the status (positions, queue level, flags), and holds,
+// resumes and stops the machine (the core's hold and stop inputs).  A
+// rejected command stops the machine (controlled stop) until the host's STOP.
 //
 //   step[i], dir[i]  STEP/DIR of axis i (timing below, active high)
 //   enable_n         low while the drivers may move: high during reset and
@@ -51,7 +54,9 @@ module halfpoint_uart_top #(
     parameter integer BTN_ACTIVE_LOW = 0,
     // the core's profile tick, 2^DIV clocks: the host's profile.choose_div(CLK_HZ)
     // (10 at 12 MHz, 11 at 25 MHz); the machine file's clock_hz must be CLK_HZ
-    parameter integer DIV            = 10
+    parameter integer DIV            = 10,
+    // bit times of silence after which the serial port refuses a partial frame
+    parameter integer IDLE_BITS      = 40
 ) (
     input  wire          clk,
 
@@ -124,11 +129,22 @@ module halfpoint_uart_top #(
     wire [`HALFPOINT_CMD_BITS-1:0]      cmd_data;
     wire                               err;
     wire [`HALFPOINT_ERR_CODE_BITS-1:0] err_code;
+    wire [NA*W-1:0]                    pos;
+    wire                               busy;
+    wire [$clog2(DEPTH):0]             level;
+    wire                               underrun;
+    wire                               dry;
+    wire                               hold;
+    wire                               stop;
 
     halfpoint_uart_cmd #(
         .CLK_HZ    (CLK_HZ),
         .BAUD      (BAUD),
-        .IDLE_BITS (40)
+        .IDLE_BITS (IDLE_BITS),
+        .NA        (NA),
+        .W         (W),
+        .DEPTH     (DEPTH),
+        .DIV       (DIV)
     ) u_uart (
         .clk           (clk),
         .rst           (rst_q),
@@ -138,7 +154,15 @@ module halfpoint_uart_top #(
         .m_axis_tready (cmd_ready),
         .m_axis_tdata  (cmd_data),
         .cmd_err       (err),
-        .cmd_err_code  (err_code)
+        .cmd_err_code  (err_code),
+        .core_pos      (pos),
+        .core_level    (level),
+        .core_busy     (busy),
+        .core_underrun (underrun),
+        .core_dry      (dry),
+        .core_abort    (abort_button_q[1]),
+        .core_hold     (hold),
+        .core_stop     (stop)
     );
 
     // ------------------------------------------------------------ motion core
@@ -151,13 +175,7 @@ module halfpoint_uart_top #(
     wire [TW-1:0] dirsetup_setting  = DIRSETUP_32[TW-1:0];
     wire [TW-1:0] dirhold_setting   = DIRHOLD_32[TW-1:0];
 
-    wire [NA*W-1:0]         pos;
-    wire                    move;
-    wire                    busy;
-    wire [$clog2(DEPTH):0]  level;
-    wire                    underrun;
-
-    wire        unused_dry;
+    wire        move;
     wire [37:0] unused_speed;
 
     halfpoint_core #(
@@ -179,8 +197,8 @@ module halfpoint_uart_top #(
         .cfg_step_inv  ({NA{1'b0}}),
         .cfg_dir_inv   ({NA{1'b0}}),
         .feed_override (8'd128),
-        .hold          (1'b0),
-        .stop          (1'b0),
+        .hold          (hold),
+        .stop          (stop),
         .abort_now     (abort_button_q[1]),
         .step_pin      (step),
         .dir_pin       (dir),
@@ -191,12 +209,12 @@ module halfpoint_uart_top #(
         .err           (err),
         .err_code      (err_code),
         .underrun      (underrun),
-        .dry           (unused_dry),
+        .dry           (dry),
         .speed         (unused_speed)
     );
 
-    // position and move are for a user's own logic (a DRO, a probe latch)
-    wire unused_pos = ^pos ^ move ^ unused_dry ^ (^unused_speed);
+    // move and speed are for a user's own logic (a DRO, a probe latch)
+    wire unused_move = move ^ (^unused_speed);
 
     // ----------------------------------------------------------------- status
     reg       err_seen_q;

@@ -44,6 +44,13 @@ def test_arc_no_header_and_cw():
         (["arc", "1", "0", "x", "0", "--ccw"], "not an integer"),
         (["arc", "1", "0", "1", "0", "--ccw", "--engine", "spice"], "engine"),
         (["arc", "1", "0", "1", "0", "--ccw", "--width", "64"], "width"),
+        (["send", "examples/boardsim_part.ngc"], "--port"),
+        (["send", "examples/boardsim_part.ngc", "--port", "loop://", "--baud", "0"],
+         "--baud and --timeout must be positive"),
+        (["send", "examples/boardsim_part.ngc", "--port", "/dev/ttyHALFPOINT_NONE", "--quiet"],
+         "cannot open /dev/ttyHALFPOINT_NONE"),
+        (["board-sim", "--listen", "10.0.0.1:7000"], "serves 127.0.0.1 only"),
+        (["board-sim", "--listen", "127.0.0.1:x"], "needs [127.0.0.1:]PORT"),
     ],
 )
 def test_bad_input_one_line_reason_nonzero_exit(args, needle):

@@ -10,6 +10,9 @@
     halfpoint chords parabola --a A --b B --x0 X0 --x1 X1 --feed F --period T [--alg 1|2]
         [--substeps N]
     halfpoint demo [--out DIR] [--engine model|rtl|both]
+    halfpoint send PROGRAM.ngc --port PORT [--machine FILE] [--baud N] [--quiet] [--timeout S]
+        [--radius R] [--tools FILE] [--strict]
+    halfpoint board-sim [--listen [127.0.0.1:]PORT] [--machine FILE] [--exit-when-idle]
 """
 
 from __future__ import annotations
@@ -120,7 +123,54 @@ def build_parser() -> argparse.ArgumentParser:
     m = sub.add_parser("demo", help="shipped arcs through model and RTL, with plots")
     m.add_argument("--out", default="build/demo", help="output directory")
     m.add_argument("--engine", choices=ENGINES + ("both",), default="both")
+
+    s = sub.add_parser("send", help="stream a G-code program to a board over its serial port")
+    s.add_argument("program", help="G-code program (LinuxCNC dialect subset)")
+    s.add_argument("--port", required=True,
+                   help="serial device (/dev/ttyUSB0) or pyserial URL (socket://HOST:PORT)")
+    s.add_argument("--machine", help="machine file (TOML; default: the shipped example "
+                                     "machine); its clock_hz must be the board's")
+    s.add_argument("--baud", type=_int, default=115200, help="serial bit rate (default 115200)")
+    s.add_argument("--quiet", action="store_true", help="no progress bar (for scripts)")
+    s.add_argument("--timeout", type=float, default=2.0,
+                   help="seconds to wait for a reply before retrying (default 2)")
+    _comp_args(s)
+
+    b = sub.add_parser("board-sim", help="the Verilator-simulated board top on a TCP port")
+    b.add_argument("--listen", help="[127.0.0.1:]PORT to serve (default: any free port)")
+    b.add_argument("--machine", help="machine file (default examples/machine_boardsim.toml)")
+    b.add_argument("--exit-when-idle", action="store_true",
+                   help="exit once a client came and went and the board is at rest")
     return p
+
+
+def cmd_send(args) -> int:
+    from .cam.machine import load, load_default
+    from .host.board import LinkError
+    from .host.send import JobError, send
+
+    if args.baud <= 0 or args.timeout <= 0:
+        raise UsageError("--baud and --timeout must be positive")
+    machine = load(args.machine) if args.machine else load_default()
+    try:
+        return send(args.program, args.port, machine, args.baud, args.quiet, args.timeout,
+                    radius=args.radius, tools=args.tools, strict=args.strict)
+    except LinkError as exc:
+        print(f"halfpoint: {exc}", file=sys.stderr)
+        return 2
+    except JobError as exc:
+        print(f"halfpoint: {args.program}: {exc}", file=sys.stderr)
+        return exc.status
+
+
+def cmd_board_sim(args) -> int:
+    from .sim.boardsim import BoardSimError, main as board_main
+
+    try:
+        return board_main(args.listen, args.machine, args.exit_when_idle)
+    except BoardSimError as exc:
+        print(f"halfpoint: board-sim: {exc}", file=sys.stderr)
+        return 2
 
 
 def _comp_args(p) -> None:
@@ -329,7 +379,8 @@ def main(argv=None) -> int:
 
             return run_demo(args.out, args.engine)
         handlers = {"arc": cmd_arc, "segments": cmd_segments, "fit": cmd_fit, "chords": cmd_chords,
-                    "compensate": cmd_compensate, "run": cmd_run}
+                    "compensate": cmd_compensate, "run": cmd_run, "send": cmd_send,
+                    "board-sim": cmd_board_sim}
         return handlers[args.cmd](args)
     except UsageError as exc:
         print(f"halfpoint: {exc}", file=sys.stderr)

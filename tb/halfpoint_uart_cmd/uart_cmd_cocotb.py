@@ -1,10 +1,12 @@
 # SPDX-License-Identifier: Apache-2.0
-"""cocotb tests of halfpoint_uart_cmd: command words assembled from the serial
-line byte for byte, one acknowledge per word with the documented flags,
-random backpressure from the core, and every kind of line error (overrun,
-idle timeout on a partial word, bad stop bit) flagged without corrupting the
-words around it.  The host side is cocotbext-uart, running HP_SKEW percent
-off the core's bit rate."""
+"""cocotb tests of halfpoint_uart_cmd, the serial link (model/halfpoint/spec/link.py):
+COMMAND frames assembled byte for byte into the core's words, RECEIVED then TAKEN for
+each under random backpressure; STATUS and IDENT replies with their values and
+checks; every line error (bad check, bad stop bit, an unfinished frame, an unknown
+opcode) refused with its NAK and no effect; a COMMAND while one waits refused (BUSY);
+HOLD, RESUME and STOP driving the core's hold and stop; a rejected command latching
+FAULT with its index and code, stopping the core and refusing commands until STOP.
+The host side is cocotbext-uart, running HP_SKEW percent off the port's bit rate."""
 
 import os
 import random
@@ -15,24 +17,25 @@ from cocotb.triggers import ClockCycles, RisingEdge, Timer, with_timeout
 from cocotbext.uart import UartSink, UartSource
 
 from halfpoint.sim.design import read_parameters
+from halfpoint.spec import link
 
 CLK_NS = 1000
-ACK = 0x80
-LINE_ERR = 0x40
-CMD_ERR = 0x20
 
 
 class Bench:
     def __init__(self, dut):
         self.dut = dut
-        clk_hz, baud_param = read_parameters(dut, "CLK_HZ", "BAUD")
+        (clk_hz, baud_param, self.na, self.w, self.depth, self.div,
+         self.idle_bits) = read_parameters(dut, "CLK_HZ", "BAUD", "NA", "W", "DEPTH", "DIV",
+                                           "IDLE_BITS")
+        self.clk_hz, self.baud = clk_hz, baud_param
         cpb = clk_hz // baud_param                  # clocks per bit, as the design divides
         skew = float(os.environ.get("HP_SKEW", "0"))
         self.bit_ns = cpb * CLK_NS
         baud = 1e9 / self.bit_ns
         self.rng = random.Random(int(os.environ.get("HP_SEED", "1")))
         self.host = UartSource(dut.rx, baud=baud * (1 + skew / 100))
-        self.acks = UartSink(dut.tx, baud=baud)
+        self.replies = UartSink(dut.tx, baud=baud)
         self.words = []             # words taken by the "core"
         self.ready_p = 1.0          # probability of tready in a clock
         self.hold = False           # tready forced low
@@ -40,6 +43,12 @@ class Bench:
         dut.m_axis_tready.value = 0
         dut.cmd_err.value = 0
         dut.cmd_err_code.value = 0
+        dut.core_pos.value = 0
+        dut.core_level.value = 0
+        dut.core_busy.value = 0
+        dut.core_underrun.value = 0
+        dut.core_dry.value = 0
+        dut.core_abort.value = 0
         cocotb.start_soon(Clock(dut.clk, CLK_NS, unit="ns").start())
         cocotb.start_soon(self._core())
 
@@ -50,25 +59,55 @@ class Bench:
         await ClockCycles(self.dut.clk, 2)
 
     async def _core(self):
-        """The motion core's side: random tready, words recorded when taken."""
+        """The motion core's side: random tready, words recorded when taken.  While
+        no word is offered it sleeps until one is (no coroutine call per clock)."""
         dut = self.dut
         while True:
+            if not int(dut.m_axis_tvalid.value):
+                dut.m_axis_tready.value = 0
+                await RisingEdge(dut.m_axis_tvalid)
             ready = int(not self.hold and self.rng.random() < self.ready_p)
             dut.m_axis_tready.value = ready
             await RisingEdge(dut.clk)
             if ready and int(dut.m_axis_tvalid.value):
                 self.words.append(int(dut.m_axis_tdata.value))
 
-    async def send_word(self, data: bytes, expect_ack: int, whole: bytes | None = None):
-        """Send bytes that complete a word (`whole`, default `data`), wait for the ack."""
-        whole = data if whole is None else whole
+    async def read(self, n: int, bits: int = 2000) -> bytes:
+        """``n`` reply bytes, each within ``bits`` bit times."""
+        out = b""
+        for _ in range(n):
+            out += bytes(await with_timeout(self.replies.read(1), bits * self.bit_ns, "ns"))
+        return out
+
+    async def quiet(self, bits: int = 30):
+        """No reply for ``bits`` bit times."""
+        await Timer(bits * self.bit_ns, "ns")
+        assert self.replies.empty(), f"unexpected reply {bytes(self.replies.read_nowait()).hex()}"
+
+    async def command(self, word: bytes):
+        """A COMMAND frame: RECEIVED, then TAKEN with the word intact."""
         n = len(self.words)
-        await self.host.write(data)
-        ack = await with_timeout(self.acks.read(1), 500 * self.bit_ns, "ns")
-        assert len(self.words) == n + 1, "acknowledge without a word"
-        assert self.words[-1] == int.from_bytes(whole, "little"), \
-            f"word {n}: {self.words[-1]:#066x} != {whole[::-1].hex()}"
-        assert ack[0] == expect_ack, f"ack {ack[0]:#04x}, expected {expect_ack:#04x}"
+        await self.host.write(link.frame(link.F_COMMAND, word))
+        assert await self.read(1) == bytes([link.R_RECEIVED])
+        assert await self.read(1, 20000) == bytes([link.R_TAKEN])
+        assert len(self.words) == n + 1, "TAKEN without a word"
+        assert self.words[-1] == int.from_bytes(word, "little"), f"word {n} corrupted"
+
+    async def control(self, opcode: int):
+        await self.host.write(link.frame(opcode))
+        assert await self.read(1) == bytes([link.R_RECEIVED])
+
+    async def status(self) -> dict:
+        await self.host.write(link.frame(link.F_STATUS))
+        n = link.status_payload(self.na)
+        data = await self.read(n + 2)
+        assert data[0] == link.R_STATUS and link.crc8(data[:-1]) == data[-1], data.hex()
+        return link.parse_status(data[1:-1], self.na)
+
+    async def nak(self, bits: int = 2000) -> int:
+        data = await self.read(2, bits)
+        assert data[0] == link.R_NAK, data.hex()
+        return data[1]
 
     def word(self) -> bytes:
         return bytes(self.rng.getrandbits(8) for _ in range(32))
@@ -82,81 +121,156 @@ class Bench:
 
 
 @cocotb.test()
-async def words_and_acks(dut):
-    """Random words with random backpressure arrive intact, each acknowledged."""
+async def commands_and_replies(dut):
+    """Random words under random backpressure arrive intact: RECEIVED, then TAKEN."""
     b = Bench(dut)
     await b.reset()
     b.ready_p = 0.3
-    for _ in range(12):
-        await b.send_word(b.word(), ACK)
+    words = 10
+    for _ in range(words):
+        await b.command(b.word())
     # all-zero and all-one bytes: start/stop detection at the extremes
-    await b.send_word(bytes(32), ACK)
-    await b.send_word(bytes([0xFF] * 32), ACK)
-    assert b.acks.empty()
+    await b.command(bytes(32))
+    await b.command(bytes([0xFF] * 32))
+    await b.quiet()
+    st = await b.status()
+    assert st["taken"] == words + 2 and st["flags"] == 0, st
 
 
 @cocotb.test()
-async def reject_reported(dut):
-    """A reject pulse from the core is reported, with its code, in the next ack only."""
+async def status_and_ident(dut):
+    """STATUS: positions sign-extended, level, flags, count; IDENT: the build."""
     b = Bench(dut)
     await b.reset()
-    await b.send_word(b.word(), ACK)
-    await RisingEdge(dut.clk)
-    dut.cmd_err.value = 1
-    dut.cmd_err_code.value = 3
-    await RisingEdge(dut.clk)
-    dut.cmd_err.value = 0
-    dut.cmd_err_code.value = 0
-    await b.send_word(b.word(), ACK | CMD_ERR | 3)
-    await b.send_word(b.word(), ACK)
+    pos = [b.rng.randrange(-(1 << (b.w - 1)), 1 << (b.w - 1)) for _ in range(b.na)]
+    dut.core_pos.value = sum((p & ((1 << b.w) - 1)) << (b.w * k) for k, p in enumerate(pos))
+    dut.core_level.value = 3
+    dut.core_busy.value = 1
+    dut.core_dry.value = 1
+    st = await b.status()
+    assert st["position"] == tuple(pos), (st, pos)
+    assert st["level"] == 3 and st["flags"] == link.FLAG_BUSY | link.FLAG_DRY, st
+    await b.host.write(link.frame(link.F_IDENT))
+    data = await b.read(link.IDENT_PAYLOAD + 2)
+    assert data[0] == link.R_IDENT and link.crc8(data[:-1]) == data[-1]
+    assert link.parse_ident(data[1:-1]) == {
+        "version": link.PROTOCOL_VERSION, "axes": b.na, "width": b.w, "depth": b.depth,
+        "clock_hz": b.clk_hz, "baud": b.baud, "div": b.div}
 
 
 @cocotb.test()
-async def partial_word_times_out(dut):
-    """A host that stops mid-word: the partial word is discarded after the idle
-    time and flagged; the next word is intact."""
+async def line_errors(dut):
+    """Each line error: its NAK, no word, no effect; the next frame works."""
     b = Bench(dut)
     await b.reset()
-    await b.host.write(b.word()[:13])
+    w = b.word()
+    bad = bytearray(link.frame(link.F_COMMAND, w))
+    bad[-1] ^= 0x01
+    await b.host.write(bytes(bad))                          # bad check
+    assert await b.nak() == link.NAK_CHECK
+    await b.host.write(link.frame(link.F_COMMAND, w)[:13])  # unfinished
+    assert await b.nak() == link.NAK_INCOMPLETE
+    await b.host.write(bytes([0x55, 0x00]))                 # unknown opcode
+    assert await b.nak() == link.NAK_OPCODE
+    await b.host.write(link.frame(link.F_COMMAND, w)[:5])   # a bad stop bit mid-frame
     await b.host.wait()
-    await Timer(20 * b.bit_ns, "ns")
-    assert not b.words and b.acks.empty()
-    await b.send_word(b.word(), ACK | LINE_ERR)
-    await b.send_word(b.word(), ACK)
+    await b.raw_byte(0x3C, stop=0)
+    await b.host.write(link.frame(link.F_COMMAND, w)[6:])
+    assert await b.nak() == link.NAK_FRAMING
+    bad = bytearray(link.frame(link.F_HOLD))
+    bad[-1] ^= 0x80
+    await b.host.write(bytes(bad))                          # a control with a bad check
+    assert await b.nak() == link.NAK_CHECK
+    assert not b.words and not int(dut.core_hold.value)
+    await b.command(w)
+    await b.quiet()
 
 
 @cocotb.test()
-async def overrun_dropped_and_flagged(dut):
-    """Bytes sent while a word waits for the core are dropped and flagged; the
-    waiting word is not touched."""
+async def busy_waiting_word(dut):
+    """While a word waits: STATUS answered (WAITING), a second COMMAND refused (BUSY)."""
     b = Bench(dut)
     await b.reset()
     b.hold = True
     w = b.word()
-    await b.host.write(w)
-    await b.host.wait()
-    await Timer(2 * b.bit_ns, "ns")
-    await b.host.write(b"\x55\xaa")          # host did not wait for the ack
-    await b.host.wait()
-    await Timer(2 * b.bit_ns, "ns")
+    await b.host.write(link.frame(link.F_COMMAND, w))
+    assert await b.read(1) == bytes([link.R_RECEIVED])
+    st = await b.status()
+    assert st["flags"] & link.FLAG_WAITING, st
+    await b.host.write(link.frame(link.F_COMMAND, b.word()))
+    assert await b.nak() == link.NAK_BUSY
     assert not b.words
     b.hold = False
-    ack = await with_timeout(b.acks.read(1), 100 * b.bit_ns, "ns")
+    assert await b.read(1) == bytes([link.R_TAKEN])
     assert b.words == [int.from_bytes(w, "little")]
-    assert ack[0] == ACK | LINE_ERR
-    await b.send_word(b.word(), ACK)
 
 
 @cocotb.test()
-async def bad_stop_bit(dut):
-    """A byte with a low stop bit is dropped and flagged; the word is completed
-    by the following bytes (the host resends the lost byte)."""
+async def hold_resume_stop(dut):
+    """HOLD and RESUME drive core_hold; STOP drops a waiting word (NAK STOPPED),
+    releases the hold and drives core_stop until the core is at rest and empty."""
     b = Bench(dut)
     await b.reset()
-    w = b.word()
-    await b.host.write(w[:5])
-    await b.host.wait()
-    await b.raw_byte(0x3C, stop=0)
-    await Timer(2 * b.bit_ns, "ns")
-    await b.send_word(w[5:], ACK | LINE_ERR, whole=w)
-    await b.send_word(b.word(), ACK)
+    await b.control(link.F_HOLD)
+    assert int(dut.core_hold.value) and (await b.status())["flags"] == link.FLAG_HOLD
+    await b.control(link.F_RESUME)
+    assert not int(dut.core_hold.value)
+    await b.control(link.F_HOLD)
+    b.hold = True
+    dut.core_busy.value = 1
+    dut.core_level.value = 2
+    await b.host.write(link.frame(link.F_COMMAND, b.word()))
+    assert await b.read(1) == bytes([link.R_RECEIVED])
+    await b.host.write(link.frame(link.F_STOP))
+    assert await b.read(1) == bytes([link.R_RECEIVED])
+    assert await b.nak() == link.NAK_STOPPED                # the waiting word
+    assert int(dut.core_stop.value) and not int(dut.core_hold.value)
+    assert (await b.status())["flags"] == link.FLAG_STOPPING | link.FLAG_BUSY
+    await b.host.write(link.frame(link.F_COMMAND, b.word()))
+    assert await b.nak() == link.NAK_STOPPED                # refused while stopping
+    dut.core_busy.value = 0
+    dut.core_level.value = 0
+    await ClockCycles(dut.clk, 2)
+    assert not int(dut.core_stop.value)
+    b.hold = False
+    assert not b.words
+    await b.command(b.word())
+
+
+@cocotb.test()
+async def reject_stops(dut):
+    """A reject latches FAULT (index = taken - level - 1, the code), stops the core,
+    drops the waiting word and refuses commands; STOP clears it."""
+    b = Bench(dut)
+    await b.reset()
+    for _ in range(4):
+        await b.command(b.word())
+    b.hold = True
+    await b.host.write(link.frame(link.F_COMMAND, b.word()))
+    assert await b.read(1) == bytes([link.R_RECEIVED])
+    dut.core_level.value = 2                    # two taken commands still queued
+    dut.core_busy.value = 1
+    await RisingEdge(dut.clk)
+    dut.cmd_err.value = 1
+    dut.cmd_err_code.value = 5
+    await RisingEdge(dut.clk)
+    dut.cmd_err.value = 0
+    dut.cmd_err_code.value = 0
+    assert await b.nak() == link.NAK_STOPPED
+    assert int(dut.core_stop.value)
+    st = await b.status()
+    assert st["flags"] == link.FLAG_FAULT | link.FLAG_STOPPING | link.FLAG_BUSY, st
+    assert st["reject_index"] == 4 - 2 - 1 and st["reject_code"] == 5, st
+    dut.core_busy.value = 0
+    dut.core_level.value = 0
+    await ClockCycles(dut.clk, 2)
+    assert not int(dut.core_stop.value)
+    await b.host.write(link.frame(link.F_COMMAND, b.word()))
+    assert await b.nak() == link.NAK_STOPPED                # FAULT refuses commands
+    assert (await b.status())["flags"] == link.FLAG_FAULT
+    await b.control(link.F_STOP)
+    await ClockCycles(dut.clk, 3)
+    assert (await b.status())["flags"] == 0
+    b.hold = False
+    await b.command(b.word())
+    assert len(b.words) == 5
