@@ -80,6 +80,15 @@ module halfpoint_uart_top #(
     output wire          enable_n,
 
     /*
+     * Spindle (or laser) and coolant, set by OUTPUT commands (M3/M4/M5, S, M7/M8/M9)
+     */
+    output wire          spindle_enable,
+    output wire          spindle_reverse,
+    output wire          spindle_pwm,
+    output wire          coolant_mist,
+    output wire          coolant_flood,
+
+    /*
      * Status LEDs
      */
     output wire [7:0]    led
@@ -210,7 +219,12 @@ module halfpoint_uart_top #(
         .err_code      (err_code),
         .underrun      (underrun),
         .dry           (dry),
-        .speed         (unused_speed)
+        .speed         (unused_speed),
+        .spindle_enable  (spindle_enable),
+        .spindle_reverse (spindle_reverse),
+        .spindle_pwm     (spindle_pwm),
+        .coolant_mist    (coolant_mist),
+        .coolant_flood   (coolant_flood)
     );
 
     // move and speed are for a user's own logic (a DRO, a probe latch)
