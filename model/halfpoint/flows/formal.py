@@ -108,7 +108,7 @@ MUTANTS = [
     Mutant("line_round_up", "halfpoint_line", "rtl/halfpoint_line.v",
            "assign steps[i] = !e_axis[DATA_W-1];",
            "assign steps[i] = !e_axis[DATA_W-1] && (e_axis != {DATA_W{1'b0}});",
-           ("ends_na2_w8",),
+           ("ends_na1_w8",),
            "an axis steps only when 2(F + |d|) > Max + 1 (the rounding off by one)"),
     Mutant("line_ready_while_busy", "halfpoint_line", "rtl/halfpoint_line.v",
            "assign s_ready = (validator_state_q == STATE_IDLE) && !abort_now;",
