@@ -539,7 +539,9 @@ def main(argv=None) -> int:
     ap.add_argument("--seed", type=int, default=DEFAULT_SEED,
                     help=f"seed of mutate -list (default {DEFAULT_SEED})")
     ap.add_argument("--sim", choices=SIMULATORS, default="verilator",
-                    help="simulator (default verilator)")
+                    help="simulator (default verilator; Icarus is 4-state: the netlist's "
+                         "flip-flops without reset show X before their first write, "
+                         "where the line unit's tests already fail unmutated)")
     ap.add_argument("--jobs", type=int, default=1, help="mutants run at once (default 1)")
     ap.add_argument("--only", default="",
                     help="comma-separated mutant indices to run (default: all)")
