@@ -8,6 +8,8 @@
 #   make boards  the example board tops alone
 #   make lint    verilator --lint-only -Wall on rtl/
 #   make formal  SymbiYosys proofs (all tasks) and mutants, table + build/formal/report.json
+#   make mutate  mutation testing (Yosys mutate, MUTANTS per module, seeded), table +
+#                build/mutate/report.json; MODULES= limits it (default: every module)
 #   make clean   remove build/ (keeps .venv/)
 
 PYTHON  ?= python3
@@ -16,9 +18,11 @@ VPY     := $(VENV)/bin/python
 STAMP   := $(VENV)/.setup-done
 JOBS    ?= 2
 
-.PHONY: setup test lint demo bench synth boards formal clean distclean
+.PHONY: setup test lint demo bench synth boards formal mutate clean distclean
 
 SEEDS   ?= 3
+MUTANTS ?= 200
+MODULES ?=
 
 setup: $(STAMP)
 
@@ -47,6 +51,9 @@ synth: setup
 
 formal: setup
 	$(VPY) -m halfpoint.flows.formal --jobs $(JOBS)
+
+mutate: setup
+	$(VPY) -m halfpoint.flows.mutate --count $(MUTANTS) --jobs $(JOBS) $(MODULES)
 
 boards: setup
 	$(VPY) -m halfpoint.flows.synth --boards-only --jobs $(JOBS)

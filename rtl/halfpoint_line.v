@@ -253,6 +253,269 @@ module halfpoint_line #(
         end
     end
 
+`ifdef FORMAL
+    // ========================================================================
+    // Formal properties (SymbiYosys: formal/halfpoint_line.sby, run by
+    // python -m halfpoint.flows.formal).  Verilator, Icarus and the cocotb
+    // builds do not define FORMAL, so they see the module above unchanged.
+    // ========================================================================
+    // A monitor follows every command from acceptance to its end: the slot
+    // (f_slot_*: the command being validated or pending) and the running
+    // segment (f_run_*: its |d_i|, signs, Max = max |d_i|, the moves made n and
+    // the steps made s_i per axis), and asserts:
+    //   handshake  s_ready only when idle and not aborting; the master holds
+    //              s_valid and s_delta until taken (assumed, valid/ready);
+    //   no loss    a taken command is validated, then either rejected (iff all
+    //              its deltas are zero, reject + err_code 1) or loaded and run
+    //              to its done; only abort_now or rst drops it; validation
+    //              takes NA + 2 clocks; busy iff a command is held anywhere;
+    //   moves      the segment makes exactly Max moves, the last with done;
+    //   steps      at most one step per axis per move (step only with move),
+    //              in the sign of d_i (dir), dir held while an axis does not
+    //              step; the longest axis steps on every move;
+    //   error      after every move the deviation F_i from the ideal line
+    //              (kept by the monitor: + |d_i| per move, - Max per step)
+    //              obeys -Max < 2 F_i <= Max (within 0.5 BLU), and the error
+    //              term E_i = 2 F_i + 2|d_i| - Max - 1 stays within its bounds
+    //              [2|d_i| - 2 Max, 2|d_i| - 1];
+    //   ends       (F_ENDS) at done, every axis has made exactly |d_i| steps,
+    //              never more before: its invariant F_i = n|d_i| - s_i Max is
+    //              a product, which k-induction does not close in reasonable
+    //              time, so the sby tasks ends_* check it bounded (bmc);
+    //   outputs    move, step, done, reject are the registered views of the
+    //              edge before.
+    // Labels: a_* the contract, i_* invariants that tie the RTL state to the
+    // monitor so that k-induction closes (E_i in terms of F_i, the pending
+    // slot's precomputed values, the validator's running maximum); in the
+    // generate loop the label is the comment after `assert(` (Yosys would
+    // see one label many times).  rst and abort_now are free (rst high on the
+    // first clock).
+    localparam integer F_PW = 2 * W + 4;         // products n|d|, s Max and their sums
+
+    reg f_past_valid;
+    initial f_past_valid = 1'b0;
+    always @(posedge clk)
+        f_past_valid <= 1'b1;
+    always @(*)
+        if (!f_past_valid)
+            assume(rst);
+
+    // valid/ready: a command offered and not taken stays offered, unchanged
+    always @(posedge clk)
+        if (f_past_valid && !$past(rst) && $past(s_valid && !s_ready)) begin
+            assume(s_valid);
+            assume(s_delta == $past(s_delta));
+        end
+
+    // the command as taken: |d_i| (W bits hold |-2^(W-1)|) and signs
+    reg  [NA*W-1:0] f_in_abs;
+    reg  [NA-1:0]   f_in_neg;
+    integer f_k, f_m, f_n;
+    always @(*)
+        for (f_k = 0; f_k < NA; f_k = f_k + 1) begin
+            f_in_neg[f_k] = s_delta[f_k*W + W - 1];
+            f_in_abs[f_k*W +: W] = f_in_neg[f_k] ? (~s_delta[f_k*W +: W] + ONE_W)
+                                                   : s_delta[f_k*W +: W];
+        end
+
+    // the slot: the command being validated or pending
+    reg             f_slot_valid;
+    reg  [NA*W-1:0] f_slot_abs;
+    reg  [NA-1:0]   f_slot_neg;
+    reg  [3:0]      f_slot_age;                  // clocks since taken (saturating)
+    reg  [W-1:0]    f_slot_max;                  // max |d_i|
+    reg  [W-1:0]    f_slot_prefix_max;           // max |d_i| of the axes i < axis_index_q
+    always @(*) begin
+        f_slot_max = {W{1'b0}};
+        f_slot_prefix_max = {W{1'b0}};
+        for (f_m = 0; f_m < NA; f_m = f_m + 1) begin
+            if (f_slot_abs[f_m*W +: W] > f_slot_max) f_slot_max = f_slot_abs[f_m*W +: W];
+            if (f_m < axis_index_q && f_slot_abs[f_m*W +: W] > f_slot_prefix_max)
+                f_slot_prefix_max = f_slot_abs[f_m*W +: W];
+        end
+    end
+
+    // the running segment
+    reg             f_run_valid;
+    reg  [NA*W-1:0] f_run_abs;
+    reg  [NA-1:0]   f_run_neg;
+    reg  [W-1:0]    f_run_max;
+    reg  [W-1:0]    f_moves;                     // n
+    reg  [NA*W-1:0] f_steps;                     // s_i
+
+    always @(posedge clk) begin
+        if (rst || abort_now) begin
+            f_slot_valid <= 1'b0;
+            f_run_valid  <= 1'b0;
+        end else begin
+            if (f_slot_age != 4'hf) f_slot_age <= f_slot_age + 4'd1;
+            if (rejecting || load) f_slot_valid <= 1'b0;
+            if (accept) begin
+                f_slot_valid <= 1'b1;
+                f_slot_abs   <= f_in_abs;
+                f_slot_neg   <= f_in_neg;
+                f_slot_age   <= 4'd0;
+            end
+            if (advance) begin
+                f_moves <= f_moves + ONE_W;
+                for (f_n = 0; f_n < NA; f_n = f_n + 1)
+                    f_steps[f_n*W +: W] <= f_steps[f_n*W +: W] + {{(W-1){1'b0}}, steps[f_n]};
+            end
+            if (last) f_run_valid <= 1'b0;
+            if (load) begin
+                f_run_valid <= 1'b1;
+                f_run_abs   <= f_slot_abs;
+                f_run_neg   <= f_slot_neg;
+                f_run_max   <= f_slot_max;
+                f_moves     <= {W{1'b0}};
+                f_steps     <= {NA*W{1'b0}};
+            end
+        end
+    end
+
+    // ---- handshake, no loss, sequencing (combinational, every clock) ----
+    always @(*)
+        if (f_past_valid && !rst) begin
+            a_ready_idle: assert(!s_ready || (validator_state_q == STATE_IDLE && !abort_now));
+            a_slot_held:  assert(f_slot_valid == (validator_state_q != STATE_IDLE));
+            a_run_held:   assert(f_run_valid == run_q);
+            a_busy:       assert(busy == (f_slot_valid || f_run_valid));
+            if (rejecting) begin
+                a_reject_empty: assert(f_slot_max == {W{1'b0}});
+            end
+            if (load) begin
+                a_load_pending: assert(validator_state_q == STATE_HOLD && f_slot_valid);
+                a_load_nonzero: assert(f_slot_max != {W{1'b0}});
+            end
+            // validation: NA clocks of maximum, one of init, then pending
+            if (validator_state_q == STATE_MAX) begin
+                a_max_time:  assert(f_slot_age == {1'b0, axis_index_q});
+                i_max_part:  assert(max_abs_q == f_slot_prefix_max);
+                i_axis_last: assert(axis_index_q <= AXIS_LAST[2:0]);
+            end
+            if (validator_state_q == STATE_INIT) begin
+                a_init_time: assert(f_slot_age == NA);
+                i_max_init:  assert(max_abs_q == f_slot_max);
+            end
+            if (validator_state_q == STATE_HOLD) begin
+                a_hold_time: assert(f_slot_age >= NA + 1);
+            end
+        end
+
+    // ---- moves, steps, ends, error ----
+    genvar f_i;
+    generate
+        for (f_i = 0; f_i < NA; f_i = f_i + 1) begin : g_formal_axis
+            wire [W-1:0]      f_abs   = f_run_abs[f_i*W +: W];
+            wire [W-1:0]      f_s     = f_steps[f_i*W +: W];
+            wire [DATA_W-1:0] f_e     = e_q[f_i*DATA_W +: DATA_W];
+            wire [DATA_W-1:0] f_estep = e_add_step_q[f_i*DATA_W +: DATA_W];
+            wire [DATA_W-1:0] f_ehold = e_add_hold_q[f_i*DATA_W +: DATA_W];
+            wire [F_PW-1:0] f_ewide = {{(F_PW-DATA_W){f_e[DATA_W-1]}}, f_e};
+            wire [F_PW-1:0] f_maxw  = {{(W+4){1'b0}}, f_run_max};
+            wire [F_PW-1:0] f_absw  = {{(W+4){1'b0}}, f_abs};
+            // F, the deviation from the ideal line after n moves, kept by adding
+            // |d| on every move and subtracting Max on every step
+            reg  [F_PW-1:0] f_dev;
+            always @(posedge clk)
+                if (load) f_dev <= {F_PW{1'b0}};
+                else if (advance) f_dev <= f_dev + f_absw - (steps[f_i] ? f_maxw : {F_PW{1'b0}});
+            always @(*)
+                if (f_past_valid && !rst && run_q) begin
+                    // the run stage holds the loaded segment's values
+                    assert(f_ehold == {1'b0, f_abs, 1'b0});  // i_hold
+                    assert(f_estep == {1'b0, f_abs, 1'b0}  // i_step
+                                      - {1'b0, f_run_max, 1'b0});
+                    assert(negative_q[f_i] == f_run_neg[f_i]);  // i_negative
+                    assert(f_ewide == (f_dev << 1) + (f_absw << 1) - f_maxw - 1'b1);  // i_e
+                    assert($signed(f_e) >= $signed(f_estep));  // a_e_low
+                    assert($signed(f_e) < $signed(f_ehold));  // a_e_high
+                    assert($signed(f_dev << 1) > -$signed(f_maxw)  // a_error
+                           && $signed(f_dev << 1) <= $signed(f_maxw));
+`ifdef F_ENDS
+                    // F = n|d| - s Max (a product: task ends only)
+                    assert(f_dev == {{(W+4){1'b0}}, f_moves} * f_absw  // i_dev
+                                    - {{(W+4){1'b0}}, f_s} * f_maxw);
+`endif
+                    assert(f_abs <= f_run_max);  // i_abs_le_max
+                    if (f_abs == f_run_max) begin
+                        assert(steps[f_i]);  // a_longest
+                    end
+`ifdef F_ENDS
+                    assert(f_s <= f_abs);  // a_steps_le
+                    if (last) begin
+                        assert(f_s + {{(W-1){1'b0}}, steps[f_i]} == f_abs);  // a_ends
+                    end
+`endif
+                    if (last && f_i == 0) begin
+                        assert(f_moves + ONE_W == f_run_max);  // a_last_move
+                    end
+                end
+            always @(*)
+                if (f_past_valid && !rst && validator_state_q != STATE_IDLE) begin
+                    // the validator holds the command taken
+                    assert(cmd_abs_q[f_i*W +: W] == f_slot_abs[f_i*W +: W]);  // i_cmd_abs
+                    assert(cmd_negative_q[f_i] == f_slot_neg[f_i]);  // i_cmd_neg
+                end
+            always @(*)
+                if (f_past_valid && !rst && validator_state_q == STATE_HOLD) begin
+                    // the pending slot holds the validated command's values
+                    assert(pend_e_q[f_i*DATA_W +: DATA_W]  // i_pend_e
+                           == {1'b0, f_slot_abs[f_i*W +: W], 1'b0}
+                              - {2'b00, f_slot_max} - ONE_D);
+                    assert(pend_e_add_step_q[f_i*DATA_W +: DATA_W]  // i_pend_step
+                           == {1'b0, f_slot_abs[f_i*W +: W], 1'b0}
+                              - {1'b0, f_slot_max, 1'b0});
+                    assert(pend_e_add_hold_q[f_i*DATA_W +: DATA_W]  // i_pend_hold
+                           == {1'b0, f_slot_abs[f_i*W +: W], 1'b0});
+                end
+            // registered outputs: the step of the move before, in its direction
+            always @(posedge clk)
+                if (f_past_valid && !$past(rst) && !rst && $past(advance) && step[f_i]) begin
+                    assert(dir[f_i] == !$past(f_run_neg[f_i]));  // a_dir
+                end
+            always @(posedge clk)
+                if (f_past_valid && !$past(rst) && !rst && !step[f_i]) begin
+                    assert(dir[f_i] == $past(dir[f_i]));  // a_dir_held
+                end
+        end
+    endgenerate
+
+    always @(*)
+        if (f_past_valid && !rst && run_q) begin
+            i_moves_left: assert(moves_left_q == f_run_max - f_moves);
+            a_moves:      assert(f_moves < f_run_max);
+        end
+    always @(*)
+        if (f_past_valid && !rst && validator_state_q == STATE_HOLD) begin
+            i_pend_moves: assert(pend_moves_q == f_slot_max);
+            i_pend_live:  assert(f_slot_max != {W{1'b0}});
+            i_pend_max:   assert(max_abs_q == f_slot_max);
+        end
+
+    always @(posedge clk)
+        if (f_past_valid && !$past(rst) && !rst) begin
+            a_move:   assert(move == $past(advance));
+            a_step:   assert(step == ($past(advance) ? $past(steps) : {NA{1'b0}}));
+            a_done:   assert(done == $past(last));
+            a_reject: assert(reject == $past(rejecting));
+            if (reject) begin
+                a_err_code: assert(err_code == 2'd1);
+            end
+        end
+
+    // ---- reachability (sby task cover) ----
+    always @(posedge clk)
+        if (f_past_valid && !rst) begin
+            c_done:         cover(done);
+            c_reject:       cover(reject);
+            c_back_to_back: cover(load && last);
+            // a segment whose last axis is neither the longest nor still
+            c_short_axis:   cover(last && f_run_abs[(NA-1)*W +: W] != f_run_max
+                                  && f_run_abs[(NA-1)*W +: W] != {W{1'b0}});
+        end
+`endif
+
 endmodule
 
 `default_nettype wire

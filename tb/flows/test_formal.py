@@ -1,7 +1,8 @@
 # SPDX-License-Identifier: Apache-2.0
 """The formal flow (halfpoint.flows.formal): the quick proofs pass, with tools
 from the venv only, and a broken step generator (steplen off by one, made
-from the real RTL by a textual edit) fails the proof with a VCD trace.
+from the real RTL by a textual edit) fails the proof with a VCD trace, as
+does a line unit that takes a command while it holds one (one is lost).
 The full set (all tasks, every mutant) is `make formal`."""
 
 from __future__ import annotations
@@ -43,14 +44,18 @@ def test_quick_proofs_pass():
     assert rc == 0
     import json
     rows = json.loads((out / "report.json").read_text())
-    stepgen = [r for r in rows if r["name"].startswith("halfpoint_stepgen:")]
-    assert stepgen and all(r["status"] == "PASS" and r["mode"] == "prove" for r in stepgen)
+    for design in ("halfpoint_stepgen", "halfpoint_line"):
+        mine = [r for r in rows if r["name"].startswith(f"{design}:")]
+        assert mine and all(r["status"] == "PASS" and r["mode"] == "prove" for r in mine), \
+            design
 
 
 def test_mutant_edit_follows_the_rtl(tmp_path):
-    rtl = (REPO / "rtl" / "halfpoint_stepgen.v").read_text()
     for m in formal.MUTANTS:
-        assert rtl.count(m.old) == 1, m.name
+        assert (REPO / m.path).read_text().count(m.old) == 1, m.name
+        tasks = formal.sby_tasks(formal.FORMAL / f"{m.design}.sby")
+        assert set(m.tasks) <= set(tasks), m.name
+    rtl = (REPO / "rtl" / "halfpoint_stepgen.v").read_text()
     m = next(m for m in formal.MUTANTS if m.name == "stepgen_steplen_plus1")
     sby = formal.make_mutant(m, tmp_path / "mut")
     text = (tmp_path / "mut" / m.path).read_text()
@@ -70,3 +75,19 @@ def test_steplen_off_by_one_fails_with_trace(tmp_path):
         assert "$var" in Path(r.traces[0]).read_text()
     # the pin-level contract alone catches it at the steplen rule
     assert any(f.startswith(("a_steplen", "p_steplen")) for f in by_task["contract_tw4"].failed)
+
+
+def test_line_lost_command_fails_with_trace(tmp_path):
+    m = next(m for m in formal.MUTANTS if m.name == "line_ready_while_busy")
+    (r,) = formal.run_mutant(m, tmp_path / "mut", tasks=("prove_na2_w8",))
+    assert r.status == "FAIL", r
+    assert r.traces and Path(r.traces[0]).exists()
+    assert any(f.startswith("a_ready_idle") for f in r.failed), r.failed
+
+
+def test_line_quick_task_is_the_induction_proof():
+    tasks = formal.sby_tasks(formal.FORMAL / "halfpoint_line.sby")
+    assert "quick" in tasks["prove_na2_w8"]
+    opts = formal.task_options(formal.setup_formal_env(BUILD / "test_formal"),
+                               formal.FORMAL / "halfpoint_line.sby", "prove_na2_w8")
+    assert opts["mode"] == "prove"

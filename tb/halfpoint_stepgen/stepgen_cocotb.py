@@ -45,7 +45,11 @@ def apply_cfg(dut, cfg: StepCfg) -> None:
     dut.cfg_dir_inv.value = cfg.dir_inv
 
 
-async def run_config(dut, cfg: StepCfg, rng: random.Random, nsteps: int, idle: float):
+async def run_config(dut, cfg: StepCfg, rng: random.Random, nsteps: int, idle: float,
+                     pushy: float = 0.0):
+    """Request ``nsteps`` steps, each when its direction is ready (``idle``: chance
+    of waiting a clock anyway); ``pushy``: chance that, in a clock without a
+    request, req is raised for a direction that is NOT ready (must be ignored)."""
     model = StepGenModel(TW)
     checker = StepDirChecker(cfg)
     apply_cfg(dut, cfg)
@@ -54,6 +58,10 @@ async def run_config(dut, cfg: StepCfg, rng: random.Random, nsteps: int, idle: f
     model.clock(cfg, StepInputs(rst=1))
     await FallingEdge(dut.clk)
     await FallingEdge(dut.clk)
+    # in reset: pins at their idle levels (the inversions), ready (found by
+    # mutation testing: a wrong reset value shows for one clock only)
+    got = {k: int(getattr(dut, k).value) for k in FIELDS}
+    assert got == {k: vars(model.outputs(cfg))[k] for k in FIELDS}, f"in reset: {got}"
     dut.rst.value = 0
     model.clock(cfg, StepInputs(rst=1))
     # a random step sequence with runs of equal direction
@@ -73,12 +81,20 @@ async def run_config(dut, cfg: StepCfg, rng: random.Random, nsteps: int, idle: f
         assert not bad, f"cycle {cycles}: " + ", ".join(f"{k}: rtl={got[k]} model={exp[k]}" for k in bad)
         checker.sample(got["step_pin"], got["dir_pin"])
         inp = StepInputs(req_dir=rng.randint(0, 1))
+        ready = got["ready_pos"] if inp.req_dir else got["ready_neg"]
+        ignored = bool(pushy) and not ready and rng.random() < pushy
         if taken < len(want) and rng.random() >= idle:
             dr = want[taken]
             if (got["ready_pos"] if dr else got["ready_neg"]):
                 inp = StepInputs(req=1, req_dir=dr)
                 taken += 1
-        dut.req.value, dut.req_dir.value = inp.req, inp.req_dir
+                ignored = False
+        if ignored:
+            # req while not ready: the RTL must ignore it, so the model (for
+            # which such a request is a requester's error) sees none
+            dut.req.value, dut.req_dir.value = 1, inp.req_dir
+        else:
+            dut.req.value, dut.req_dir.value = inp.req, inp.req_dir
         model.clock(cfg, inp)
         cycles += 1
         if taken == len(want) and not got["busy"] and checker.idle and cycles > 3:
@@ -108,3 +124,43 @@ async def timing_and_model(dut):
     for cfg in CONFIGS:
         for idle in (0.0, 0.4):
             await run_config(dut, cfg, rng, 150, idle)
+
+
+def wide_configs(tw: int) -> list[StepCfg]:
+    """Settings that fill the timers' top bits: the largest value TW allows and
+    values of 8..15 clocks (for TW = 4 the top bit; capped at 15 so that wide
+    timers stay quick), in both polarities.  Found by mutation testing
+    (python -m halfpoint.flows.mutate): with settings below 8 the top bit of
+    the counters and the saturation of the inactive time were never used."""
+    top = (1 << tw) - 1
+    cap = min(top, 15)
+    return [
+        StepCfg(top, top, top, top) if tw <= 4 else StepCfg(cap, cap, cap, cap),
+        StepCfg(8, min(12, cap), 9, min(14, cap), 1, 0),
+        StepCfg(min(12, cap), 8, min(14, cap), 9, 0, 1),
+        StepCfg(9, min(14, cap), 8, min(12, cap), 1, 1),
+    ]
+
+
+@cocotb.test()
+async def wide_settings(dut):
+    """Settings up to the timers' width: pins equal the model on every clock,
+    every edge meets the timing, every request becomes exactly one pulse."""
+    bind(dut)
+    cocotb.start_soon(Clock(dut.clk, 10, unit="ns").start())
+    rng = random.Random(int(os.environ.get("HP_SEED", "1")) + 101)
+    for cfg in wide_configs(TW):
+        for idle in (0.0, 0.5):
+            await run_config(dut, cfg, rng, 40, idle)
+
+
+@cocotb.test()
+async def requests_while_not_ready(dut):
+    """Requests raised while their direction is not ready are ignored: no
+    pulse, no DIR change, pins equal the model.  Found by mutation testing: the
+    other tests raise req only when ready."""
+    bind(dut)
+    cocotb.start_soon(Clock(dut.clk, 10, unit="ns").start())
+    rng = random.Random(int(os.environ.get("HP_SEED", "1")) + 202)
+    for cfg in CONFIGS + wide_configs(TW):
+        await run_config(dut, cfg, rng, 30, 0.3, pushy=0.7)

@@ -69,7 +69,7 @@ class Bench:
             ready = int(not self.hold and self.rng.random() < self.ready_p)
             dut.m_axis_tready.value = ready
             await RisingEdge(dut.clk)
-            if ready and int(dut.m_axis_tvalid.value):
+            if ready and dut.m_axis_tvalid.value == 1:     # X before reset (Icarus)
                 self.words.append(int(dut.m_axis_tdata.value))
 
     async def read(self, n: int, bits: int = 2000) -> bytes:

@@ -105,6 +105,20 @@ MUTANTS = [
            "wire take = req && in_low;",
            ("stable_tw4", "contract_tw4"),
            "a request taken while not ready"),
+    Mutant("line_round_up", "halfpoint_line", "rtl/halfpoint_line.v",
+           "assign steps[i] = !e_axis[DATA_W-1];",
+           "assign steps[i] = !e_axis[DATA_W-1] && (e_axis != {DATA_W{1'b0}});",
+           ("ends_na1_w8",),
+           "an axis steps only when 2(F + |d|) > Max + 1 (the rounding off by one)"),
+    Mutant("line_ready_while_busy", "halfpoint_line", "rtl/halfpoint_line.v",
+           "assign s_ready = (validator_state_q == STATE_IDLE) && !abort_now;",
+           "assign s_ready = !abort_now;",
+           ("prove_na2_w8",),
+           "a command taken while another is validated or pending (one is lost)"),
+    Mutant("line_moves_short", "halfpoint_line", "rtl/halfpoint_line.v",
+           "moves_left_q <= pend_moves_q;", "moves_left_q <= pend_moves_q - ONE_W;",
+           ("ends_na1_w8",),
+           "a segment one move short of Max"),
 ]
 
 
@@ -188,12 +202,15 @@ def task_options(sbyexe: Path, sby: Path, task: str) -> dict[str, str]:
 
 
 def assertion_label(src: Path, line: int) -> str:
-    """The label of the assertion at this line (`label: assert`), if any."""
+    """The label of the assertion at this line (`label: assert`, or in a
+    generate loop, where Yosys would see one label many times, `assert(...  //
+    label`), if any."""
     try:
         text = src.read_text().splitlines()[line - 1]
     except (OSError, IndexError):
         return ""
-    m = re.search(r"(\w+)\s*:\s*assert", text)
+    m = (re.search(r"(\w+)\s*:\s*assert", text)
+         or re.search(r"\bassert\s*\(.*//\s*(\w+)\s*$", text))
     return m.group(1) if m else ""
 
 

