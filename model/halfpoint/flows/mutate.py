@@ -54,9 +54,13 @@ import shutil
 import subprocess
 import sys
 import time
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
+
+try:
+    import tomllib
+except ModuleNotFoundError:          # Python 3.10
+    import tomli as tomllib
 
 from ..sim.env import BUILD, REPO, RTL, SIMULATORS, icarus_missing, setup_verilator_env
 
