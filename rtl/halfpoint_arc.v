@@ -183,6 +183,9 @@ module halfpoint_arc #(
     // Validator: capture, square by shift-and-add, check, prepare.
     // ------------------------------------------------------------------
     reg  [2:0]          validator_state_q;
+    // validator_state_q == STATE_HOLD, as a flip-flop of its own (it gates
+    // the load of the pending arc)
+    reg                 hold_q;
     reg  [5:0]          square_count_q;
     reg                 cmd_cw_q;
     reg  [W-1:0]        cmd_xs_q, cmd_ys_q, cmd_xe_q, cmd_ye_q;   // raw coordinates
@@ -283,6 +286,16 @@ module halfpoint_arc #(
 
     // run-stage handshake with the pending slot (defined below)
     wire       load;
+
+    always @(posedge clk) begin
+        if (rst || abort_now) begin
+            hold_q <= 1'b0;
+        end else if (validator_state_q == STATE_INIT) begin
+            hold_q <= 1'b1;
+        end else if (load) begin
+            hold_q <= 1'b0;
+        end
+    end
 
     always @(posedge clk) begin
         if (rst || abort_now) begin
@@ -540,10 +553,10 @@ module halfpoint_arc #(
     wire stop   = move_b ? stop_b : move_a ? stop_a : stop_c;
     wire last = advance && stop;
 
-    assign load = (validator_state_q == STATE_HOLD) && start_en && !abort_now && (!run_q || last);
+    assign load = hold_q && start_en && !abort_now && (!run_q || last);
 
     assign running = run_q;
-    assign pending = (validator_state_q == STATE_HOLD);
+    assign pending = hold_q;
     assign loading = load;
     assign ending  = last;
     assign nx_step = {y_steps, x_steps};
