@@ -183,16 +183,20 @@ module halfpoint_arc #(
     // Validator: capture, square by shift-and-add, check, prepare.
     // ------------------------------------------------------------------
     reg  [2:0]          validator_state_q;
+    // validator_state_q == STATE_HOLD, as a flip-flop of its own (it gates
+    // the load of the pending arc)
+    reg                 hold_q;
     reg  [5:0]          square_count_q;
     reg                 cmd_cw_q;
     reg  [W-1:0]        cmd_xs_q, cmd_ys_q, cmd_xe_q, cmd_ye_q;   // raw coordinates
     reg  [W-1:0]        abs_xs_q, abs_ys_q, abs_xe_q, abs_ye_q;   // magnitudes
     reg  [SQUARE_W-1:0] square_xs_q, square_ys_q, square_xe_q, square_ye_q;
     reg  [SQUARE_W:0]   radius_square_q, end_square_q;            // R^2 and |E|^2
-    // |E|^2 - R^2 and R^2 - |E|^2
-    reg  signed [SQUARE_W+1:0] end_deviation_q, end_deviation_neg_q;
     reg  [W:0]          tolerance_q;                              // 2 max(|xs|, |ys|)
-    reg                 radius_zero_q, radius_too_big_q;
+    // the checks: R = 0, R^2 too big, |E|^2 - R^2 > tolerance, R^2 - |E|^2 > tolerance
+    reg                 radius_zero_q, radius_too_big_q, end_outside_q, end_inside_q;
+    // terms of the frame set-up: 3v and 2(v - u) of the start point
+    reg  [DATA_W-1:0]   init_v_times3_q, init_v_minus_u_twice_q;
 
     // pending command, in run-stage form
     reg  [1:0]        pend_quad_q, pend_end_quad_q;
@@ -203,7 +207,13 @@ module halfpoint_arc #(
     reg  [DATA_W-1:0] pend_d2_add_b_q, pend_d2_add_c_q, pend_d2_add_b_cross_q;
     reg  [DATA_W-1:0] pend_f_add_b_q, pend_f_add_c_q, pend_f_add_a_q;
     reg  [W-1:0]      pend_ue_plus1_q, pend_ue_minus1_q, pend_ve_minus1_q;
+    reg  [W-1:0]      pend_ue_plus2_q, pend_ue_minus2_q, pend_ve_minus2_q;
     reg               pend_armed_q, pend_first_octant_q, pend_ve_zero_q;
+    reg               pend_ve_one_q, pend_ue_zero_q, pend_ue_one_q, pend_u_one_q;
+    // the run stage's comparison flags for the start point (see the run stage)
+    reg               pend_v_gt_ve_q, pend_v_eq_ve_q, pend_v_plus1_eq_ve_q;
+    reg               pend_u_lt_ue_q, pend_u_eq_ue_q, pend_u_eq_ue_plus1_q;
+    reg               pend_v_lt_ue_q, pend_v_eq_ue_q, pend_v_plus1_eq_ue_q;
 
     assign s_ready = (validator_state_q == STATE_IDLE) && !abort_now;
     wire   accept  = s_valid && s_ready;
@@ -226,17 +236,45 @@ module halfpoint_arc #(
         end
     endfunction
 
-    // DECIDE-state combinational checks and frames
-    wire signed [SQUARE_W+1:0] tolerance = $signed({{(SQUARE_W-W+1){1'b0}}, tolerance_q});
-    wire       end_off_circle = (end_deviation_q > tolerance) || (end_deviation_neg_q > tolerance);
+    // The validator's work is spread so that each clock does at most one
+    // add or compare: the frame set-up of the pending slot runs in the first
+    // three squaring clocks (W >= 8 of them; the pending slot is free then, as
+    // a command is taken only when the previous one has left it), the two
+    // squares are summed in SUM, and CHECK registers the three checks.
+    wire       prepare_frame = (validator_state_q == STATE_SQUARE) && (square_count_q == 6'd0);
+    wire       prepare_terms = (validator_state_q == STATE_SQUARE) && (square_count_q == 6'd1);
+    wire       prepare_sums  = (validator_state_q == STATE_SQUARE) && (square_count_q == 6'd2);
+
+    // CHECK: a - b > t, as the sign of a + ~b + ~t + 1 = a - b - t - 1, with
+    // the three operands reduced to two by a carry-save step (one LUT level
+    // before a single carry chain)
+    localparam integer CHECK_W = SQUARE_W + 3;
+    function exceeds;
+        input [SQUARE_W:0] a;
+        input [SQUARE_W:0] b;
+        input [W:0]        t;
+        reg   [CHECK_W-1:0] first, second, third, half_sum, carries, total;
+        begin
+            first    = {2'b00, a};
+            second   = ~{2'b00, b};
+            third    = ~{{(CHECK_W-W-1){1'b0}}, t};
+            half_sum = first ^ second ^ third;
+            carries  = {((first[CHECK_W-2:0] & second[CHECK_W-2:0]) |
+                         (first[CHECK_W-2:0] & third[CHECK_W-2:0]) |
+                         (second[CHECK_W-2:0] & third[CHECK_W-2:0])), 1'b1};
+            total    = half_sum + carries;
+            exceeds  = !total[CHECK_W-1];
+        end
+    endfunction
+
     wire [1:0] decide_error = radius_zero_q ? 2'd1 : radius_too_big_q ? 2'd2
-                            : end_off_circle ? 2'd3 : 2'd0;
+                            : (end_outside_q || end_inside_q) ? 2'd3 : 2'd0;
     wire [1:0] start_quad   = quadrant_of(cmd_cw_q, cmd_xs_q, cmd_ys_q);
     wire [1:0] end_quad     = quadrant_of(cmd_cw_q, cmd_xe_q, cmd_ye_q);
     wire       start_u_is_x = (start_quad[0] == cmd_cw_q);
     wire       end_u_is_x   = (end_quad[0] == cmd_cw_q);
 
-    // INIT-state: armed flag from the progress order
+    // frame set-up: armed flag from the progress order
     wire       init_first_octant = (pend_ve_q <= pend_ue_q);
     wire       init_v_before = (pend_v_q < pend_ve_q) ||
                                (pend_v_q == pend_ve_q && pend_u_q > pend_ue_q);
@@ -248,6 +286,16 @@ module halfpoint_arc #(
 
     // run-stage handshake with the pending slot (defined below)
     wire       load;
+
+    always @(posedge clk) begin
+        if (rst || abort_now) begin
+            hold_q <= 1'b0;
+        end else if (validator_state_q == STATE_INIT) begin
+            hold_q <= 1'b1;
+        end else if (load) begin
+            hold_q <= 1'b0;
+        end
+    end
 
     always @(posedge clk) begin
         if (rst || abort_now) begin
@@ -296,18 +344,9 @@ module halfpoint_arc #(
             square_xe_q <= square_step(square_xe_q, abs_xe_q);
             square_ye_q <= square_step(square_ye_q, abs_ye_q);
         end
-        if (validator_state_q == STATE_SUM) begin
-            radius_square_q <= {1'b0, square_xs_q} + {1'b0, square_ys_q};
-            end_square_q    <= {1'b0, square_xe_q} + {1'b0, square_ye_q};
+        if (prepare_frame) begin
             tolerance_q     <= {((abs_xs_q > abs_ys_q) ? abs_xs_q : abs_ys_q), 1'b0};
-        end
-        if (validator_state_q == STATE_CHECK) begin
-            end_deviation_q     <= $signed({1'b0, end_square_q}) - $signed({1'b0, radius_square_q});
-            end_deviation_neg_q <= $signed({1'b0, radius_square_q}) - $signed({1'b0, end_square_q});
-            radius_zero_q       <= (radius_square_q == {(SQUARE_W+1){1'b0}});
-            radius_too_big_q    <= ({1'b0, radius_square_q} > RADIUS_SQUARE_MAX);
-        end
-        if (validator_state_q == STATE_DECIDE) begin
+            radius_zero_q   <= (abs_xs_q == {W{1'b0}}) && (abs_ys_q == {W{1'b0}});
             pend_quad_q     <= start_quad;
             pend_end_quad_q <= end_quad;
             pend_u_q        <= start_u_is_x ? abs_xs_q : abs_ys_q;
@@ -315,27 +354,56 @@ module halfpoint_arc #(
             pend_ue_q       <= end_u_is_x ? abs_xe_q : abs_ye_q;
             pend_ve_q       <= end_u_is_x ? abs_ye_q : abs_xe_q;
         end
-        if (validator_state_q == STATE_INIT) begin
+        if (prepare_terms) begin
             // F = 0 at the start point
-            pend_d1_q             <= (init_v - (init_u << 1)) + ONE_D;      // F - 2u + v + 1
-            pend_d2_q             <= ((init_v << 1) - init_u) + ONE_D;      // F - u + 2v + 1
             pend_d1_add_b_q       <= THREE_D - (init_u << 1);               // P1
             pend_d1_add_c_q       <= (init_v << 1) + TWO_D;                 // P2
-            pend_d_add_a_q        <= ((init_v - init_u) << 1) + FIVE_D;     // P3
-            pend_d1_add_b_cross_q <= ONE_D - (init_v + (init_v << 1));      // P4
             pend_d_add_a_cross_q  <= ZERO_D - init_v;                       // P5
             pend_d2_add_b_q       <= TWO_D - (init_u << 1);                 // Q1
             pend_d2_add_c_q       <= (init_v << 1) + THREE_D;               // Q2
-            pend_d2_add_b_cross_q <= ZERO_D - (init_v + (init_v << 1));     // Q4
             pend_f_add_b_q        <= ONE_D - (init_u << 1);                 // G1
             pend_f_add_c_q        <= (init_v << 1) + ONE_D;                 // G2
-            pend_f_add_a_q        <= ((init_v - init_u) << 1) + TWO_D;      // G3
+            init_v_times3_q       <= init_v + (init_v << 1);
+            init_v_minus_u_twice_q <= (init_v - init_u) << 1;
             pend_first_octant_q   <= init_first_octant;
             pend_armed_q          <= !((pend_quad_q == pend_end_quad_q) && !init_before);
             pend_ue_plus1_q       <= pend_ue_q + ONE_W;
             pend_ue_minus1_q      <= pend_ue_q - ONE_W;
             pend_ve_minus1_q      <= pend_ve_q - ONE_W;
             pend_ve_zero_q        <= (pend_ve_q == {W{1'b0}});
+            pend_ve_one_q         <= (pend_ve_q == ONE_W);
+            pend_ue_zero_q        <= (pend_ue_q == {W{1'b0}});
+            pend_ue_one_q         <= (pend_ue_q == ONE_W);
+            pend_u_one_q          <= (pend_u_q == ONE_W);
+            pend_v_gt_ve_q        <= (pend_v_q > pend_ve_q);
+            pend_v_eq_ve_q        <= (pend_v_q == pend_ve_q);
+            pend_u_lt_ue_q        <= (pend_u_q < pend_ue_q);
+            pend_u_eq_ue_q        <= (pend_u_q == pend_ue_q);
+            pend_v_lt_ue_q        <= (pend_v_q < pend_ue_q);
+            pend_v_eq_ue_q        <= (pend_v_q == pend_ue_q);
+        end
+        if (prepare_sums) begin
+            pend_d1_q             <= init_v + pend_f_add_b_q;               // F - 2u + v + 1
+            pend_d2_q             <= pend_f_add_c_q - init_u;               // F - u + 2v + 1
+            pend_d_add_a_q        <= init_v_minus_u_twice_q + FIVE_D;       // P3
+            pend_f_add_a_q        <= init_v_minus_u_twice_q + TWO_D;        // G3
+            pend_d1_add_b_cross_q <= ONE_D - init_v_times3_q;               // P4
+            pend_d2_add_b_cross_q <= ZERO_D - init_v_times3_q;              // Q4
+            pend_ue_plus2_q       <= pend_ue_plus1_q + ONE_W;
+            pend_ue_minus2_q      <= pend_ue_minus1_q - ONE_W;
+            pend_ve_minus2_q      <= pend_ve_minus1_q - ONE_W;
+            pend_v_plus1_eq_ve_q  <= !pend_ve_zero_q && (pend_v_q == pend_ve_minus1_q);
+            pend_u_eq_ue_plus1_q  <= (pend_u_q == pend_ue_plus1_q);
+            pend_v_plus1_eq_ue_q  <= (pend_v_q == pend_ue_minus1_q);
+        end
+        if (validator_state_q == STATE_SUM) begin
+            radius_square_q <= {1'b0, square_xs_q} + {1'b0, square_ys_q};
+            end_square_q    <= {1'b0, square_xe_q} + {1'b0, square_ye_q};
+        end
+        if (validator_state_q == STATE_CHECK) begin
+            radius_too_big_q <= ({1'b0, radius_square_q} > RADIUS_SQUARE_MAX);
+            end_outside_q    <= exceeds(end_square_q, radius_square_q, tolerance_q);
+            end_inside_q     <= exceeds(radius_square_q, end_square_q, tolerance_q);
         end
     end
 
@@ -409,7 +477,8 @@ module halfpoint_arc #(
 
     wire [W-1:0] u_n    = crossing ? (move_a ? v_q + ONE_W : v_q) : (u_down ? u_q - ONE_W : u_q);
     wire [W-1:0] v_n    = crossing ? {W{1'b0}} : (v_up ? v_q + ONE_W : v_q);
-    wire [1:0]   quad_n = crossing ? (cw_q ? quad_q - 2'd1 : quad_q + 2'd1) : quad_q;
+    wire [1:0]   quad_crossed = cw_q ? quad_q - 2'd1 : quad_q + 2'd1;   // the next quadrant
+    wire [1:0]   quad_n = crossing ? quad_crossed : quad_q;
 
     // physical steps: u steps toward the axis, v away from it
     wire u_is_x      = (quad_q[0] == cw_q);
@@ -459,30 +528,35 @@ module halfpoint_arc #(
     wire u_one_n         = crossing ? (move_a ? v_eq_0 : v_eq_1)
                          : u_down ? u_eq_2 : u_one_q;
 
-    reg  past_same;   // next point (same quadrant) is at or past E
-    always @(*) begin
-        if (first_octant_q) begin   // order (v, -u)
-            if (move_b)      past_same = v_gt_ve_q || (v_eq_ve_q && u_le_ue_plus1);
-            else if (move_c) past_same = v_ge_ve || (v_plus1_eq_ve_q && u_le_ue);
-            else             past_same = v_ge_ve || (v_plus1_eq_ve_q && u_le_ue_plus1);
-        end else begin              // order (-u, v)
-            if (move_b)      past_same = u_le_ue || (u_eq_ue_plus1_q && v_ge_ve);
-            else if (move_c) past_same = u_lt_ue_q || (u_eq_ue_q && v_plus1_ge_ve);
-            else             past_same = u_le_ue || (u_eq_ue_plus1_q && v_plus1_ge_ve);
-        end
-    end
-    // entering E's quadrant at (u', 0) with u' = v (B) or v + 1 (A)
-    wire past_entry = first_octant_q
-                      ? (ve_zero_q && (move_b ? (v_lt_ue_q || v_eq_ue_q) : v_lt_ue_q))
-                      : (move_b ? v_lt_ue_q : (v_lt_ue_q && !v_plus1_eq_ue_q));
-    wire stop = armed_q && (((quad_q == end_quad_q) && (crossing || past_same)) ||
-                            (crossing && (quad_n == end_quad_q) && past_entry));
+    // The stop test for each of the three moves, from registers only; the
+    // move's sign bits then select one (a single LUT level before `ending`).
+    // past_same_*: the point after the move (same quadrant) is at or past E
+    wire past_same_b = first_octant_q ? (v_gt_ve_q || (v_eq_ve_q && u_le_ue_plus1))   // (v, -u)
+                                      : (u_le_ue || (u_eq_ue_plus1_q && v_ge_ve));     // (-u, v)
+    wire past_same_c = first_octant_q ? (v_ge_ve || (v_plus1_eq_ve_q && u_le_ue))
+                                      : (u_lt_ue_q || (u_eq_ue_q && v_plus1_ge_ve));
+    wire past_same_a = first_octant_q ? (v_ge_ve || (v_plus1_eq_ve_q && u_le_ue_plus1))
+                                      : (u_le_ue || (u_eq_ue_plus1_q && v_plus1_ge_ve));
+    // past_entry_*: entering E's quadrant at (u', 0) with u' = v (B) or v + 1 (A)
+    wire past_entry_b = first_octant_q ? (ve_zero_q && (v_lt_ue_q || v_eq_ue_q)) : v_lt_ue_q;
+    wire past_entry_a = first_octant_q ? (ve_zero_q && v_lt_ue_q)
+                                       : (v_lt_ue_q && !v_plus1_eq_ue_q);
+    wire in_end_quad    = (quad_q == end_quad_q);
+    wire enters_end     = (quad_crossed == end_quad_q);
+    // a B or A move from u == 1 crosses into the next quadrant (stop if it
+    // leaves E's quadrant or enters it past E); a C move never crosses
+    wire stop_b = armed_q && (u_one_q ? (in_end_quad || (enters_end && past_entry_b))
+                                      : (in_end_quad && past_same_b));
+    wire stop_a = armed_q && (u_one_q ? (in_end_quad || (enters_end && past_entry_a))
+                                      : (in_end_quad && past_same_a));
+    wire stop_c = armed_q && in_end_quad && past_same_c;
+    wire stop   = move_b ? stop_b : move_a ? stop_a : stop_c;
     wire last = advance && stop;
 
-    assign load = (validator_state_q == STATE_HOLD) && start_en && !abort_now && (!run_q || last);
+    assign load = hold_q && start_en && !abort_now && (!run_q || last);
 
     assign running = run_q;
-    assign pending = (validator_state_q == STATE_HOLD);
+    assign pending = hold_q;
     assign loading = load;
     assign ending  = last;
     assign nx_step = {y_steps, x_steps};
@@ -511,22 +585,22 @@ module halfpoint_arc #(
             ve_zero_q        <= pend_ve_zero_q;
             first_octant_q   <= pend_first_octant_q;
             armed_q          <= pend_armed_q;
-            ue_plus2_q       <= pend_ue_plus1_q + ONE_W;
-            ue_minus2_q      <= pend_ue_minus1_q - ONE_W;
-            ve_minus2_q      <= pend_ve_minus1_q - ONE_W;
-            ve_one_q         <= (pend_ve_q == ONE_W);
-            ue_zero_q        <= (pend_ue_q == {W{1'b0}});
-            ue_one_q         <= (pend_ue_q == ONE_W);
-            u_one_q          <= (pend_u_q == ONE_W);
-            v_gt_ve_q        <= (pend_v_q > pend_ve_q);
-            v_eq_ve_q        <= (pend_v_q == pend_ve_q);
-            v_plus1_eq_ve_q  <= !pend_ve_zero_q && (pend_v_q == pend_ve_minus1_q);
-            u_lt_ue_q        <= (pend_u_q < pend_ue_q);
-            u_eq_ue_q        <= (pend_u_q == pend_ue_q);
-            u_eq_ue_plus1_q  <= (pend_u_q == pend_ue_plus1_q);
-            v_lt_ue_q        <= (pend_v_q < pend_ue_q);
-            v_eq_ue_q        <= (pend_v_q == pend_ue_q);
-            v_plus1_eq_ue_q  <= (pend_v_q == pend_ue_minus1_q);
+            ue_plus2_q       <= pend_ue_plus2_q;
+            ue_minus2_q      <= pend_ue_minus2_q;
+            ve_minus2_q      <= pend_ve_minus2_q;
+            ve_one_q         <= pend_ve_one_q;
+            ue_zero_q        <= pend_ue_zero_q;
+            ue_one_q         <= pend_ue_one_q;
+            u_one_q          <= pend_u_one_q;
+            v_gt_ve_q        <= pend_v_gt_ve_q;
+            v_eq_ve_q        <= pend_v_eq_ve_q;
+            v_plus1_eq_ve_q  <= pend_v_plus1_eq_ve_q;
+            u_lt_ue_q        <= pend_u_lt_ue_q;
+            u_eq_ue_q        <= pend_u_eq_ue_q;
+            u_eq_ue_plus1_q  <= pend_u_eq_ue_plus1_q;
+            v_lt_ue_q        <= pend_v_lt_ue_q;
+            v_eq_ue_q        <= pend_v_eq_ue_q;
+            v_plus1_eq_ue_q  <= pend_v_plus1_eq_ue_q;
             point_x_q        <= cmd_xs_q;
             point_y_q        <= cmd_ys_q;
             d1_q             <= pend_d1_q;

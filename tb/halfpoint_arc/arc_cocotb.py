@@ -15,7 +15,7 @@ import cocotb
 
 from arcgen import arc_for_quadrants, full_circle, short_arc
 from halfpoint.spec.arc import (
-    ERR_END_OFF, ERR_RADIUS_ZERO, ERR_RANGE, arc_points, limits, validate_latency,
+    ERR_END_OFF, ERR_RADIUS_ZERO, ERR_RANGE, arc_points, limits, validate, validate_latency,
 )
 from halfpoint.sim.arcbench import ArcBench
 from halfpoint.sim.design import read_parameters
@@ -158,3 +158,42 @@ async def back_to_back(dut):
     span = stats.last_done - stats.first_move + 1
     assert stats.moves == span, f"{span - stats.moves} idle clocks between the first and last move"
     dut._log.info("back to back: %d arcs, %d moves in %d clocks", len(cmds), stats.moves, span)
+
+
+def tolerance_edge_commands(width: int) -> list[tuple[int, int, int, int, int]]:
+    """End points whose deviation |xe^2 + ye^2 - R^2| is exactly the tolerance
+    2 max(|xs|, |ys|) (accepted) or one more (rejected), on both sides of the
+    circle: every such end around a few small starts, and, near the largest
+    coordinates, starts (a, 1) and (a, 0) with clockwise ends one step away
+    (deviations +2a, -2a and 2a + 1), where the checks' carries run through
+    every bit."""
+    cmds = []
+    for xs, ys in ((5, 0), (7, 3), (-4, 6), (2, -9), (-11, -11)):
+        r2, tol = xs * xs + ys * ys, 2 * max(abs(xs), abs(ys))
+        span = abs(xs) + abs(ys) + 2
+        for xe in range(-span, span + 1):
+            for ye in range(-span, span + 1):
+                if abs(xe * xe + ye * ye - r2) in (tol, tol + 1):
+                    cmds.append((1, xs, ys, xe, ye))
+    a = (1 << (width - 2)) + 12345 % (1 << (width - 3))
+    for sign in (1, -1):
+        cmds.append((1, sign * a, sign, sign * (a + 1), 0))    # +tol: accepted
+        cmds.append((1, sign * a, sign, sign * (a - 1), 0))    # -tol: accepted
+        cmds.append((1, sign * a, 0, sign * (a + 1), 0))       # tol + 1: rejected
+    return cmds
+
+
+@cocotb.test()
+async def tolerance_edges(dut):
+    """End points exactly at the tolerance of reject code 3 and one beyond."""
+    bind(dut)
+    bench = ArcBench(dut, W, seed=SEED + 53)
+    await bench.start()
+    cmds = tolerance_edge_commands(W)
+    results, _ = await bench.run(cmds, valid_idle=0.1)
+    check_results(results, cmds)
+    codes = [r.rejected for r in results]
+    expected = [validate(*c[1:], W) for c in cmds]
+    assert codes == expected
+    assert ERR_END_OFF in codes and 0 in codes, "both sides of the edge"
+    dut._log.info("tolerance edges: %d commands, %d rejected", len(cmds), codes.count(ERR_END_OFF))

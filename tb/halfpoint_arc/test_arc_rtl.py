@@ -12,7 +12,7 @@ from halfpoint.sim.env import BUILD, rtl_sources, run_cocotb
 CASES = [
     (16, None),
     (32, None),
-    (23, ["full_circles", "quadrant_pairs", "rejects_then_valid"]),
+    (23, ["full_circles", "quadrant_pairs", "rejects_then_valid", "tolerance_edges"]),
 ]
 
 
