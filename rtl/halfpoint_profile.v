@@ -183,6 +183,14 @@ module halfpoint_profile #(
     reg           ramp_dry_q;
     reg  [37:0]   ramp_v_q;
     reg  [RW-1:0] ramp_left_q;      // two's complement
+    // the staircase's next level, ready for either way of its next step:
+    // (ramp_v << DIV) - accel_level (a step down by accel) and floor_level +
+    // 4 ramp_v (a step to the floor), floor_level that of the floor it heads
+    // for; and ramp_v < floor + accel (which way).  Meaningful only while the
+    // staircase runs (a start loads them)
+    reg  [RW-1:0] ramp_down_level_q;
+    reg  [RW-1:0] ramp_floor_level_q;
+    reg           ramp_below_q;
 
     // ------------------------------------------------------------------
     // Pop, take, stop, hold (ProfileStage.view)
@@ -270,9 +278,8 @@ module halfpoint_profile #(
     wire          dry_condition = !next_valid && exit_nonzero_q;
     wire [37:0]   floor_held = ramp_dry_q ? {4'd0, accel_q} : exit_speed_q;
     wire [38:0]   floor_plus_accel = ramp_dry_q ? {4'd0, accel_q, 1'b0} : exit_plus_accel_q;
-    wire          ramp_below = ({1'b0, ramp_v_q} < floor_plus_accel);
     wire [37:0]   ramp_down = ramp_v_q - {4'd0, accel_q};
-    wire [37:0]   ramp_stepped = ramp_below ? floor_held : ramp_down;
+    wire [37:0]   ramp_stepped = ramp_below_q ? floor_held : ramp_down;
     wire          exit_above = (exit_speed_q > ramp_v_q);
     reg           ramp_on_n;        // after this edge (before the segment's end clears it)
     reg           ramp_dry_n;
@@ -310,39 +317,95 @@ module halfpoint_profile #(
         end
     end
     wire [37:0]   ramp_v_n = ramp_step ? ramp_stepped : ramp_v_a;
+    // the next level ready for the staircase's speed after this edge, for
+    // both ways of its next step, and which way it goes (ramp_below_q:
+    // ramp_v < floor + accel), each from registers alone: the staircase's
+    // speed and floor change only by a start, a step or a return from the dry
+    // queue, and each candidate is one carry chain from registers
+    wire          dry_return = ramp_on_q && ramp_dry_q && !dry_condition;
+    wire [RW-1:0] accel_wide = {{(RW-34){1'b0}}, accel_q};
+    wire [RW-1:0] cruise_wide = {{(RW-38){1'b0}}, cruise};
+    wire [RW-1:0] exit_wide = {{(RW-38){1'b0}}, exit_speed_q};
+    wire [RW-1:0] ramp_v_wide = {{(RW-38){1'b0}}, ramp_v_q};
+    wire [RW-1:0] exit_shifted = exit_wide << DIV;              // exit_level + 4 exit
+    wire [RW-1:0] accel_shifted = accel_wide << DIV;            // accel_level + 4 accel
+    // (v << DIV) - accel_level: at the cruise speed, at the exit speed, one step down
+    wire [RW-1:0] cruise_down_level = (cruise_wide << DIV) - accel_level_q;
+    wire [RW-1:0] exit_down_level = exit_shifted - accel_level_q;
+    wire [RW-1:0] next_down_level = ramp_down_level_q - accel_shifted;
+    // floor_level + 4 v: at the cruise speed (either floor), one step down,
+    // back from the dry queue at the staircase's speed
+    wire [RW-1:0] cruise_four = cruise_wide << 2;
+    wire [RW-1:0] cruise_floor_exit = exit_level_q + cruise_four;
+    wire [RW-1:0] cruise_floor_dry = accel_level_q + cruise_four;
+    wire [RW-1:0] next_floor_level = ramp_floor_level_q - (accel_wide << 2);
+    wire [RW-1:0] back_floor_level = exit_level_q + (ramp_v_wide << 2);
+    // below after a start, after a step down (ramp_v - accel < floor + accel,
+    // one carry-save level) and after a return from the dry queue
+    wire          cruise_below_exit = ({1'b0, cruise} < exit_plus_accel_q);
+    wire          cruise_below_dry = ({1'b0, cruise} < {4'd0, accel_q, 1'b0});
+    // accel + floor_plus_accel > ramp_v: accel + floor_plus_accel + ~ramp_v >= 0
+    wire [39:0]   nb_a = {6'd0, accel_q};
+    wire [39:0]   nb_b = {1'b0, floor_plus_accel};
+    wire [39:0]   nb_c = ~{2'd0, ramp_v_q};
+    wire [39:0]   nb_x = nb_a ^ nb_b ^ nb_c;
+    wire [38:0]   nb_m = (nb_a[38:0] & nb_b[38:0]) | (nb_a[38:0] & nb_c[38:0])
+                         | (nb_b[38:0] & nb_c[38:0]);
+    wire [VW+1:0] nb_diff = nb_x + {nb_m, 1'b0};
+    wire          next_below = !nb_diff[VW+1];
+    wire          back_below = ({1'b0, ramp_v_q} < exit_plus_accel_q);
+    reg  [RW-1:0] ramp_down_level_n;
+    reg  [RW-1:0] ramp_floor_level_n;
+    reg           ramp_below_n;
+    always @(*) begin
+        ramp_down_level_n  = ramp_down_level_q;
+        ramp_floor_level_n = ramp_floor_level_q;
+        ramp_below_n       = ramp_below_q;
+        if (ramp_start) begin
+            ramp_down_level_n  = cruise_down_level;
+            ramp_floor_level_n = ramp_dry_n ? cruise_floor_dry : cruise_floor_exit;
+            ramp_below_n       = ramp_dry_n ? cruise_below_dry : cruise_below_exit;
+        end else if (ramp_step && ramp_below_q) begin
+            // at the floor: floor_level + 4 floor = floor << DIV
+            ramp_down_level_n  = ramp_dry_q ? (accel_wide << 2) : exit_down_level;
+            ramp_floor_level_n = ramp_dry_q ? accel_shifted : exit_shifted;
+            ramp_below_n       = 1'b1;
+        end else if (ramp_step) begin
+            ramp_down_level_n  = next_down_level;
+            ramp_floor_level_n = next_floor_level;
+            ramp_below_n       = next_below;
+        end else if (dry_return) begin
+            ramp_down_level_n  = exit_above ? exit_down_level : ramp_down_level_q;
+            ramp_floor_level_n = exit_above ? exit_shifted : back_floor_level;
+            ramp_below_n       = exit_above || back_below;
+        end
+    end
     // the remainder: - gain every clock; a step adds the next level,
     // (stepped << DIV) + 4 x (ramp_v - stepped), i.e. (ramp_v << DIV) -
     // accel x (2^DIV - 4) unclamped and floor x (2^DIV - 4) + (ramp_v << 2)
     // at the floor; each as two carry-save levels and one carry chain
     wire [RW-1:0] gain_wide = {{(RW-38){1'b0}}, gain};
     wire [RW-1:0] gain_neg = ~gain_wide;                        // -gain - 1
-    wire [RW-1:0] left_held = ramp_left_q - gain_wide;
-    wire [RW-1:0] left_start = cruise_level_q - gain_wide;
-    wire [RW-1:0] rv_level = {{(RW-38){1'b0}}, ramp_v_q} << DIV;
-    wire [RW-1:0] su_x = ramp_left_q ^ gain_neg ^ rv_level;
-    wire [RW-2:0] su_m = (ramp_left_q[RW-2:0] & gain_neg[RW-2:0])
-                         | (ramp_left_q[RW-2:0] & rv_level[RW-2:0])
-                         | (gain_neg[RW-2:0] & rv_level[RW-2:0]);
-    wire [RW-1:0] su_y = {su_m, 1'b1};
-    wire [RW-1:0] su_k = ~accel_level_q;
-    wire [RW-1:0] su_x2 = su_x ^ su_y ^ su_k;
-    wire [RW-2:0] su_m2 = (su_x[RW-2:0] & su_y[RW-2:0]) | (su_x[RW-2:0] & su_k[RW-2:0])
-                          | (su_y[RW-2:0] & su_k[RW-2:0]);
-    wire [RW-1:0] left_step_down = su_x2 + {su_m2, 1'b1};
-    wire [RW-1:0] floor_level = ramp_dry_q ? accel_level_q : exit_level_q;
-    wire [RW-1:0] rv_four = {{(RW-38){1'b0}}, ramp_v_q} << 2;
-    wire [RW-1:0] sf_x = ramp_left_q ^ gain_neg ^ floor_level;
+    // the remainder held: - gain; while the staircase is off it is loaded
+    // with the first level (its value there is not used), so a start needs
+    // no candidate of its own
+    wire [RW-1:0] left_base = ramp_on_q ? ramp_left_q : cruise_level_q;
+    wire [RW-1:0] left_held = left_base - gain_wide;
+    // a step: - gain + the level, kept ready in two registers for the two
+    // ways the step can go (ramp_down_level_q, ramp_floor_level_q); one
+    // carry-save level and one carry chain each
+    wire [RW-1:0] sd_x = ramp_left_q ^ gain_neg ^ ramp_down_level_q;
+    wire [RW-2:0] sd_m = (ramp_left_q[RW-2:0] & gain_neg[RW-2:0])
+                         | (ramp_left_q[RW-2:0] & ramp_down_level_q[RW-2:0])
+                         | (gain_neg[RW-2:0] & ramp_down_level_q[RW-2:0]);
+    wire [RW-1:0] left_step_down = sd_x + {sd_m, 1'b1};
+    wire [RW-1:0] sf_x = ramp_left_q ^ gain_neg ^ ramp_floor_level_q;
     wire [RW-2:0] sf_m = (ramp_left_q[RW-2:0] & gain_neg[RW-2:0])
-                         | (ramp_left_q[RW-2:0] & floor_level[RW-2:0])
-                         | (gain_neg[RW-2:0] & floor_level[RW-2:0]);
-    wire [RW-1:0] sf_y = {sf_m, 1'b1};
-    wire [RW-1:0] sf_x2 = sf_x ^ sf_y ^ rv_four;
-    wire [RW-2:0] sf_m2 = (sf_x[RW-2:0] & sf_y[RW-2:0]) | (sf_x[RW-2:0] & rv_four[RW-2:0])
-                          | (sf_y[RW-2:0] & rv_four[RW-2:0]);
-    wire [RW-1:0] left_step_floor = sf_x2 + {sf_m2, 1'b0};
-    wire [RW-1:0] left_sum = ramp_start ? left_start
-                             : (!ramp_step ? left_held
-                                : (ramp_below ? left_step_floor : left_step_down));
+                         | (ramp_left_q[RW-2:0] & ramp_floor_level_q[RW-2:0])
+                         | (gain_neg[RW-2:0] & ramp_floor_level_q[RW-2:0]);
+    wire [RW-1:0] left_step_floor = sf_x + {sf_m, 1'b1};
+    wire [RW-1:0] left_sum = !ramp_step ? left_held
+                             : (ramp_below_q ? left_step_floor : left_step_down);
     // saturating at -2^(DIV+40) (profile.ramp_left_floor): below it the top
     // two bits are 10
     wire          left_under = left_sum[RW-1] && !left_sum[RW-2];
@@ -426,6 +489,16 @@ module halfpoint_profile #(
     wire          cur_valid_n = take_now || (cur_valid_q && !at_rest_stop && !segment_ends);
     wire          same_segment = cur_valid_q && !at_rest_stop && !segment_ends;
     wire [37:0]   v_next = cur_valid_n ? v_n : 38'd0;
+    // v_next == 0 without the pop in front of a 38-bit compare: whether v_n is 0
+    // comes from registers (v_plus is 0 only for v = accel = 0: it is taken only
+    // when it does not pass the target, so it does not wrap), the pop ends with
+    // one gate
+    wire          target_zero = (target_q == 38'd0);
+    wire          v_minus_zero = (v_q == {4'd0, accel_q});
+    wire          v_plus_zero = v_zero_q && (accel_q == 34'd0);
+    wire          v_up_zero = up_clamp ? target_zero : v_plus_zero;
+    wire          v_down_zero = down_clamp ? target_zero : v_minus_zero;
+    wire          v_n_zero = step_up ? v_up_zero : (step_down ? v_down_zero : v_zero_q);
 
     always @(posedge clk) begin
         if (rst || abort_now) begin
@@ -454,7 +527,7 @@ module halfpoint_profile #(
         end else begin
             // speed and its cadence; no segment after this edge: the speed is 0
             v_q <= v_next;
-            v_zero_q <= (v_next == 38'd0);
+            v_zero_q <= !cur_valid_n || v_n_zero;
             gain_q <= (same_segment && at_cap) ? 38'd0 : v_next;
             target_q <= target_n;
             if (step_up || step_down) begin
@@ -507,7 +580,10 @@ module halfpoint_profile #(
     // start loads it afresh, so it is computed on every edge without a reset
     // or a clear (the model's 0 while the staircase is off is not held)
     always @(posedge clk) begin
-        ramp_left_q <= ramp_left_n;
+        ramp_left_q        <= ramp_left_n;
+        ramp_down_level_q  <= ramp_down_level_n;
+        ramp_floor_level_q <= ramp_floor_level_n;
+        ramp_below_q       <= ramp_below_n;
     end
 
     // the current profile's fields and what is derived from them: loaded on

@@ -361,6 +361,10 @@ class Monitor:
         if got["ramp_on"]:
             # meaningful only while the staircase runs (the RTL does not clear it)
             got["ramp_left"] = signed(int(d.ramp_left_q.value), rw)
+            # the next level kept ready for either way of the next step
+            for k in ("ramp_down_level", "ramp_floor_level"):
+                got[k] = signed(int(getattr(d, k + "_q").value), rw)
+            got["ramp_below"] = int(d.ramp_below_q.value)
         if got["cur_valid"]:
             for k in ("exit_speed", "exit_plus_accel", "line_cost", "d_exit", "d_stop",
                       "cap", "cruise_level"):
@@ -395,6 +399,14 @@ def model_registers(model: ProfileStage) -> dict:
             "ramp_dry": int(model.ramp_dry), "ramp_v": model.ramp_v}
     if model.ramp_on:
         want["ramp_left"] = model.ramp_left
+        # the RTL keeps the level of the staircase's next step ready both ways:
+        # a step down by accel ((ramp_v << DIV) - accel (2^DIV - 4)) and a step to
+        # the floor (floor (2^DIV - 4) + 4 ramp_v), and which one it is
+        c, tick = model.cur, 1 << DIV
+        floor = model.accel if model.ramp_dry or not c.v_exit else c.v_exit << pf.SPEED_SHIFT
+        want.update(ramp_down_level=(model.ramp_v << DIV) - model.accel * (tick - pf.RAMP_LAG),
+                    ramp_floor_level=floor * (tick - pf.RAMP_LAG) + pf.RAMP_LAG * model.ramp_v,
+                    ramp_below=int(model.ramp_v < floor + model.accel))
     if model.cur is not None:
         c = model.cur
         # the RTL keeps v_exit as the staircase's exit speed (the creep speed for 0)
