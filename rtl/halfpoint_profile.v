@@ -138,9 +138,13 @@ module halfpoint_profile #(
     localparam integer DW = W + 19;                             // distances
     localparam integer RW = DIV + 42;                           // ramp_left
     localparam integer VW = 38;                                 // speeds
+    localparam integer CW = 43;                                 // credit less a cost
     localparam [17:0] COST_AXIS = 18'd65536;                    // 2^16
     localparam [17:0] COST_DIAGONAL = 18'd92682;                // round(sqrt(2) x 2^16)
     localparam [7:0] OVERRIDE_ONE = 8'd128;
+    // the credit less the axis / diagonal cost when the credit is 0
+    localparam [CW-1:0] OVER_AXIS_ZERO = {CW{1'b0}} - {{(CW-40){1'b0}}, COST_AXIS, 22'd0};
+    localparam [CW-1:0] OVER_DIAGONAL_ZERO = {CW{1'b0}} - {{(CW-40){1'b0}}, COST_DIAGONAL, 22'd0};
     localparam [DIV-1:0] SINCE_ONE = 1;
 
     // ------------------------------------------------------------------
@@ -163,6 +167,13 @@ module halfpoint_profile #(
     reg  [37:0]   v_q;              // speed
     reg  [37:0]   target_q;         // its target, a clock ahead
     reg  [41:0]   credit_q;
+    // credit - (65536 << 22), credit - (92682 << 22) and credit - (line_cost
+    // << 22), CW bits signed: their signs are the compares of the credit with
+    // the three costs (updated as the credit, with the line cost the next
+    // segment's from a take on)
+    reg  [CW-1:0] over_axis_q;
+    reg  [CW-1:0] over_diagonal_q;
+    reg  [CW-1:0] over_line_q;
     // the credit's gain: 0 when the credit was at its cap a clock ago (the
     // model's full), else v (a copy of v_q for the credit's paths)
     reg  [37:0]   gain_q;
@@ -209,11 +220,12 @@ module halfpoint_profile #(
         endcase
     end
     wire [19:0]   credit_whole = credit_q[41:22];              // credit in cost units
-    // the credit against each cost from registers alone; the head's class
-    // selects among them, so the inputs only meet the last LUTs
-    wire          covers_axis = |credit_whole[19:16];          // >= 2^16
-    wire          covers_diagonal = (credit_whole >= {2'b0, COST_DIAGONAL});
-    wire          covers_line = (credit_whole >= {2'b0, line_cost_q});
+    // the credit against each cost from registers alone (the signs of the
+    // credit less the diagonal and the line cost, kept beside it); the head's
+    // class selects among them, so the inputs only meet the last LUTs
+    wire          covers_axis = !over_axis_q[CW-1];
+    wire          covers_diagonal = !over_diagonal_q[CW-1];
+    wire          covers_line = !over_line_q[CW-1];
     reg           covers;
     always @(*) begin
         case (head_class)
@@ -228,8 +240,10 @@ module halfpoint_profile #(
     wire          take_idle = next_valid && !cur_valid_q && !stop;
     wire          can_pop = cur_valid_q && head_valid && covers;
     wire          pop_now = covers && pop_ok;
-    wire          take_now = (pop_now && take_last) || take_idle;
-    wire          segment_ends = pop_now && head_last;
+    // what the pop decides, as the last select (a pop means a segment, not
+    // stopped at rest, and no take without one)
+    wire          segment_runs = cur_valid_q && !at_rest_stop;
+    wire          take_now = pop_now ? take_last : take_idle;
 
     assign pop     = covers && pop_ok && !abort_now;
     assign take    = ((covers && pop_ok && take_last) || take_idle) && !abort_now;
@@ -251,7 +265,57 @@ module halfpoint_profile #(
     wire [40:0] cp_maj = (cp_a[40:0] & cp_b[40:0]) | (cp_a[40:0] & cp_c[40:0])
                          | (cp_b[40:0] & cp_c[40:0]);
     wire [41:0]   credit_popped = cp_sum + {cp_maj, 1'b1};
-    wire [41:0]   credit_new = pop_now ? credit_popped : credit_keep;
+    // without a pop: 0 when stopped at rest, + gain with a segment, else
+    // kept (and the line cost the next segment's on a take); a pop selects
+    // last
+    wire [41:0]   credit_rest = at_rest_stop ? 42'd0
+                                : (cur_valid_q ? credit_keep : credit_q);
+    // the same sums less the diagonal cost, and less the line cost: - cost
+    // and the +1 of its negation in a carry-save level as above
+    wire [CW-1:0] gain_credit = {{(CW-38){1'b0}}, gain};
+    wire [CW-1:0] cost_neg = ~{{(CW-40){1'b0}}, cost, 22'd0};
+    wire [CW-1:0] od_keep = over_diagonal_q + gain_credit;
+    wire [CW-1:0] od_x = over_diagonal_q ^ gain_credit ^ cost_neg;
+    wire [CW-2:0] od_m = (over_diagonal_q[CW-2:0] & gain_credit[CW-2:0])
+                         | (over_diagonal_q[CW-2:0] & cost_neg[CW-2:0])
+                         | (gain_credit[CW-2:0] & cost_neg[CW-2:0]);
+    wire [CW-1:0] od_popped = od_x + {od_m, 1'b1};
+    wire [CW-1:0] oa_keep = over_axis_q + gain_credit;
+    wire [CW-1:0] oa_x = over_axis_q ^ gain_credit ^ cost_neg;
+    wire [CW-2:0] oa_m = (over_axis_q[CW-2:0] & gain_credit[CW-2:0])
+                         | (over_axis_q[CW-2:0] & cost_neg[CW-2:0])
+                         | (gain_credit[CW-2:0] & cost_neg[CW-2:0]);
+    wire [CW-1:0] oa_popped = oa_x + {oa_m, 1'b1};
+    wire [CW-1:0] ol_keep = over_line_q + gain_credit;
+    wire [CW-1:0] ol_x = over_line_q ^ gain_credit ^ cost_neg;
+    wire [CW-2:0] ol_m = (over_line_q[CW-2:0] & gain_credit[CW-2:0])
+                         | (over_line_q[CW-2:0] & cost_neg[CW-2:0])
+                         | (gain_credit[CW-2:0] & cost_neg[CW-2:0]);
+    wire [CW-1:0] ol_popped = ol_x + {ol_m, 1'b1};
+    // a take on the segment's last move: credit + gain - cost - next line
+    // cost, two carry-save levels; a take without a segment: credit - next
+    // line cost; stop at rest: 0 - line cost
+    wire [CW-1:0] credit_wide = {{(CW-42){1'b0}}, credit_q};
+    wire [CW-1:0] next_line_neg = ~{{(CW-40){1'b0}}, next_line_cost, 22'd0};
+    wire [CW-1:0] ot_x = credit_wide ^ gain_credit ^ cost_neg;
+    wire [CW-2:0] ot_m = (credit_wide[CW-2:0] & gain_credit[CW-2:0])
+                         | (credit_wide[CW-2:0] & cost_neg[CW-2:0])
+                         | (gain_credit[CW-2:0] & cost_neg[CW-2:0]);
+    wire [CW-1:0] ot_y = {ot_m, 1'b1};
+    wire [CW-1:0] ot_x2 = ot_x ^ ot_y ^ next_line_neg;
+    wire [CW-2:0] ot_m2 = (ot_x[CW-2:0] & ot_y[CW-2:0]) | (ot_x[CW-2:0] & next_line_neg[CW-2:0])
+                          | (ot_y[CW-2:0] & next_line_neg[CW-2:0]);
+    wire [CW-1:0] ol_take = ot_x2 + {ot_m2, 1'b1};
+    wire [CW-1:0] ol_idle = credit_wide - {{(CW-40){1'b0}}, next_line_cost, 22'd0};
+    wire [CW-1:0] ol_stop = {CW{1'b0}} - {{(CW-40){1'b0}}, line_cost_q, 22'd0};
+    wire [CW-1:0] oa_rest = at_rest_stop ? OVER_AXIS_ZERO
+                            : (cur_valid_q ? oa_keep : over_axis_q);
+    wire [CW-1:0] od_rest = at_rest_stop ? OVER_DIAGONAL_ZERO
+                            : (cur_valid_q ? od_keep : over_diagonal_q);
+    wire [CW-1:0] ol_rest = at_rest_stop ? ol_stop
+                            : (cur_valid_q ? ol_keep : (take_idle ? ol_idle : over_line_q));
+    wire [DW-1:0] s_plus = s_q + {{(DW-18){1'b0}}, cost};
+    wire [DW-1:0] s_rest = at_rest_stop ? {DW{1'b0}} : s_q;
     wire          at_cap = (credit_q >= {1'b0, cap_q});
 
     // earned distance E = s + credit / 2^22 against d_exit and d_stop:
@@ -486,9 +550,12 @@ module halfpoint_profile #(
     wire [37:0]   v_down = down_clamp ? target_q : v_minus;
     wire [37:0]   v_n = step_up ? v_up : (step_down ? v_down : v_q);
 
-    wire          cur_valid_n = take_now || (cur_valid_q && !at_rest_stop && !segment_ends);
-    wire          same_segment = cur_valid_q && !at_rest_stop && !segment_ends;
+    wire          cur_valid_n = pop_now ? (!head_last || next_valid) : (segment_runs || take_idle);
+    wire          same_segment = pop_now ? !head_last : segment_runs;
     wire [37:0]   v_next = cur_valid_n ? v_n : 38'd0;
+    // the credit's gain is 0 after this edge without a segment or at the cap
+    wire          gain_zero = pop_now ? (head_last ? !next_valid : at_cap)
+                                      : (segment_runs ? at_cap : !take_idle);
     // v_next == 0 without the pop in front of a 38-bit compare: whether v_n is 0
     // comes from registers (v_plus is 0 only for v = accel = 0: it is taken only
     // when it does not pass the target, so it does not wrap), the pop ends with
@@ -509,6 +576,9 @@ module halfpoint_profile #(
             v_zero_q    <= 1'b1;
             target_q    <= 38'd0;
             credit_q    <= 42'd0;
+            over_axis_q <= OVER_AXIS_ZERO;
+            over_diagonal_q <= OVER_DIAGONAL_ZERO;
+            over_line_q <= {CW{1'b0}};
             gain_q      <= 38'd0;
             s_q         <= {DW{1'b0}};
             since_q     <= {DIV{1'b1}};
@@ -528,7 +598,7 @@ module halfpoint_profile #(
             // speed and its cadence; no segment after this edge: the speed is 0
             v_q <= v_next;
             v_zero_q <= !cur_valid_n || v_n_zero;
-            gain_q <= (same_segment && at_cap) ? 38'd0 : v_next;
+            gain_q <= gain_zero ? 38'd0 : v_n;
             target_q <= target_n;
             if (step_up || step_down) begin
                 last_up_q   <= step_up;
@@ -544,17 +614,12 @@ module halfpoint_profile #(
             ov_part_d_q <= ov_term6 | ov_term7;
             ov_target_q <= ov_sum;
             // credit and distance
-            if (at_rest_stop) begin
-                credit_q <= 42'd0;
-                s_q      <= {DW{1'b0}};
-            end else if (cur_valid_q) begin
-                credit_q <= credit_new;
-                if (segment_ends) begin
-                    s_q <= {DW{1'b0}};
-                end else if (pop_now) begin
-                    s_q <= s_q + {{(DW-18){1'b0}}, cost};
-                end
-            end
+            credit_q        <= pop_now ? credit_popped : credit_rest;
+            over_axis_q     <= pop_now ? oa_popped : oa_rest;
+            over_diagonal_q <= pop_now ? od_popped : od_rest;
+            over_line_q     <= pop_now ? (head_last && next_valid ? ol_take : ol_popped)
+                                       : ol_rest;
+            s_q             <= pop_now ? (head_last ? {DW{1'b0}} : s_plus) : s_rest;
             // compares of this clock's registers, for the next clock
             past_exit_q <= same_segment && earned_past_exit;
             past_stop_q <= same_segment && earned_past_stop;

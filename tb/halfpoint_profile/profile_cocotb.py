@@ -357,6 +357,12 @@ class Monitor:
             "ramp_on", "ramp_dry", "ramp_v")}
         # the model's ov_prod is held as four partial sums
         got["ov_prod"] = sum(int(getattr(d, f"ov_part_{k}_q").value) for k in "abcd")
+        # the credit less the axis and diagonal costs (always) and the line cost (with
+        # a segment): their signs are the compares the pop uses
+        got["over_axis"] = signed(int(d.over_axis_q.value), 43)
+        got["over_diagonal"] = signed(int(d.over_diagonal_q.value), 43)
+        if got["cur_valid"]:
+            got["over_line"] = signed(int(d.over_line_q.value), 43)
         rw = ramp_left_width()
         if got["ramp_on"]:
             # meaningful only while the staircase runs (the RTL does not clear it)
@@ -397,6 +403,10 @@ def model_registers(model: ProfileStage) -> dict:
             "ov_target": model.ov_target, "past_exit": int(model.past_exit),
             "past_stop": int(model.past_stop), "ramp_on": int(model.ramp_on),
             "ramp_dry": int(model.ramp_dry), "ramp_v": model.ramp_v}
+    want["over_axis"] = model.credit - (pf.COST_AXIS << pf.COST_SHIFT)
+    want["over_diagonal"] = model.credit - (pf.COST_DIAG << pf.COST_SHIFT)
+    if model.cur is not None:
+        want["over_line"] = model.credit - (model.cur.line_cost << pf.COST_SHIFT)
     if model.ramp_on:
         want["ramp_left"] = model.ramp_left
         # the RTL keeps the level of the staircase's next step ready both ways:
