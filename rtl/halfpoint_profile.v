@@ -146,6 +146,7 @@ module halfpoint_profile #(
     localparam [CW-1:0] OVER_AXIS_ZERO = {CW{1'b0}} - {{(CW-40){1'b0}}, COST_AXIS, 22'd0};
     localparam [CW-1:0] OVER_DIAGONAL_ZERO = {CW{1'b0}} - {{(CW-40){1'b0}}, COST_DIAGONAL, 22'd0};
     localparam [DIV-1:0] SINCE_ONE = 1;
+    localparam [DIV-1:0] SINCE_LAST = {DIV{1'b1}} - SINCE_ONE;  // the count before the top
 
     // ------------------------------------------------------------------
     // Registers
@@ -156,16 +157,21 @@ module halfpoint_profile #(
     reg  [17:0]   line_cost_q;
     reg  [DW-1:0] d_exit_q;
     reg  [DW-1:0] d_stop_q;
-    // derived from the fields when the profile is taken
+    reg  [31:0]   v_exit_q;
+    reg  [40:0]   cap_q;            // twice the largest cost, x 2^22, loaded with them
+    // derived from the fields on the clock after the take
     reg           exit_nonzero_q;   // v_exit != 0
     reg  [37:0]   exit_speed_q;     // v_exit << 6, or the creep speed accel for 0
     reg  [38:0]   exit_plus_accel_q;    // exit_speed + accel
-    reg  [40:0]   cap_q;            // twice the largest cost, x 2^22
     reg  [RW-1:0] cruise_level_q;   // (v_cruise << 6) x (2^DIV - 1): the first level
     reg  [RW-1:0] accel_level_q;    // accel x (2^DIV - 4), signed
     reg  [RW-1:0] exit_level_q;     // exit_speed x (2^DIV - 4), signed
     reg  [37:0]   v_q;              // speed
     reg  [37:0]   target_q;         // its target, a clock ahead
+    // target - accel (39 bits signed) and target + accel, for the clamps of
+    // the speed's step
+    reg  [VW:0]   target_minus_accel_q;
+    reg  [VW:0]   target_plus_accel_q;
     reg  [41:0]   credit_q;
     // credit - (65536 << 22), credit - (92682 << 22) and credit - (line_cost
     // << 22), CW bits signed: their signs are the compares of the credit with
@@ -179,6 +185,7 @@ module halfpoint_profile #(
     reg  [37:0]   gain_q;
     reg  [DW-1:0] s_q;              // popped distance in the segment
     reg  [DIV-1:0] since_q;         // clocks since the last speed step - 1, saturating
+    reg           tick_done_q;      // since_q is at its top (a tick since the last step)
     reg           last_up_q;        // direction of the last speed step
     reg           last_down_q;
     reg           dry_q;            // sticky: a dry queue forced a deceleration
@@ -489,8 +496,38 @@ module halfpoint_profile #(
     wire [37:0]   target_base = ov_under_cruise ? ov_target_q : cruise;
     wire          ramp_limits = ramp_on_q && (ov_under_cruise ? ramp_under_ov
                                                               : ramp_under_cruise);
-    wire [37:0]   target_n = (!cur_valid_q || hold || stop) ? 38'd0
+    wire          target_zero_n = !cur_valid_q || hold || stop;
+    wire [37:0]   target_n = target_zero_n ? 38'd0
                              : (ramp_limits ? ramp_v_q : target_base);
+    // the same less and plus the speed step of the next clock (the next
+    // segment's on a take): every candidate target with both steps, one carry
+    // chain each from registers and inputs, selected as the target is
+    wire [VW:0]   am_old = {5'd0, accel_q};
+    wire [VW:0]   am_new = {5'd0, next_accel};
+    wire [VW:0]   tm_ramp_old = {1'b0, ramp_v_q} - am_old;
+    wire [VW:0]   tm_ov_old = {1'b0, ov_target_q} - am_old;
+    wire [VW:0]   tm_cruise_old = {1'b0, cruise} - am_old;
+    wire [VW:0]   tm_ramp_new = {1'b0, ramp_v_q} - am_new;
+    wire [VW:0]   tm_ov_new = {1'b0, ov_target_q} - am_new;
+    wire [VW:0]   tm_cruise_new = {1'b0, cruise} - am_new;
+    wire [VW:0]   tp_ramp_old = {1'b0, ramp_v_q} + am_old;
+    wire [VW:0]   tp_ov_old = {1'b0, ov_target_q} + am_old;
+    wire [VW:0]   tp_cruise_old = {1'b0, cruise} + am_old;
+    wire [VW:0]   tp_ramp_new = {1'b0, ramp_v_q} + am_new;
+    wire [VW:0]   tp_ov_new = {1'b0, ov_target_q} + am_new;
+    wire [VW:0]   tp_cruise_new = {1'b0, cruise} + am_new;
+    wire [VW:0]   tm_old = target_zero_n ? -am_old
+                           : (ramp_limits ? tm_ramp_old
+                              : (ov_under_cruise ? tm_ov_old : tm_cruise_old));
+    wire [VW:0]   tm_new = target_zero_n ? -am_new
+                           : (ramp_limits ? tm_ramp_new
+                              : (ov_under_cruise ? tm_ov_new : tm_cruise_new));
+    wire [VW:0]   tp_old = target_zero_n ? am_old
+                           : (ramp_limits ? tp_ramp_old
+                              : (ov_under_cruise ? tp_ov_old : tp_cruise_old));
+    wire [VW:0]   tp_new = target_zero_n ? am_new
+                           : (ramp_limits ? tp_ramp_new
+                              : (ov_under_cruise ? tp_ov_new : tp_cruise_new));
 
     // The override's product (v_cruise << 6) x ov_q >> 7 with ov_q <= 128:
     // ov = 128 gives the cruise speed; else the sum of v_cruise << b over the
@@ -522,29 +559,17 @@ module halfpoint_profile #(
     // Speed: one step of accel towards the registered target, same-direction
     // steps a tick apart
     // ------------------------------------------------------------------
-    wire          tick_done = &since_q;
+    wire          tick_done = tick_done_q;
     wire          step_up = (target_q > v_q) && (!last_up_q || tick_done);
     wire          step_down = (target_q < v_q) && (!last_down_q || tick_done);
     wire [37:0]   v_plus = v_q + {4'd0, accel_q};
     wire [37:0]   v_minus = v_q - {4'd0, accel_q};
-    // v + accel > target: v + accel + ~target >= 0 (40 bits signed; the
-    // same as v + accel - target - 1 >= 0), one carry-save level, one chain
-    wire [39:0]   up_a = {2'd0, v_q};
-    wire [39:0]   up_b = {6'd0, accel_q};
-    wire [39:0]   up_c = ~{2'd0, target_q};
-    wire [39:0]   up_x = up_a ^ up_b ^ up_c;
-    wire [38:0] up_m = (up_a[38:0] & up_b[38:0]) | (up_a[38:0] & up_c[38:0])
-                       | (up_b[38:0] & up_c[38:0]);
-    wire [VW+1:0] up_diff = up_x + {up_m, 1'b0};
+    // v + accel > target: v > target - accel, v + ~target_minus_accel >= 0
+    // (40 bits signed), one carry chain from registers
+    wire [VW+1:0] up_diff = {2'd0, v_q} + ~{target_minus_accel_q[VW], target_minus_accel_q};
     wire          up_clamp = !up_diff[VW+1];
-    // v - accel < target: target + accel + ~v >= 0
-    wire [39:0]   dn_a = {2'd0, target_q};
-    wire [39:0]   dn_b = {6'd0, accel_q};
-    wire [39:0]   dn_c = ~{2'd0, v_q};
-    wire [39:0]   dn_x = dn_a ^ dn_b ^ dn_c;
-    wire [38:0] dn_m = (dn_a[38:0] & dn_b[38:0]) | (dn_a[38:0] & dn_c[38:0])
-                       | (dn_b[38:0] & dn_c[38:0]);
-    wire [VW+1:0] dn_diff = dn_x + {dn_m, 1'b0};
+    // v - accel < target: v < target + accel, target_plus_accel + ~v >= 0
+    wire [VW+1:0] dn_diff = {1'b0, target_plus_accel_q} + ~{2'd0, v_q};
     wire          down_clamp = !dn_diff[VW+1];
     wire [37:0]   v_up = up_clamp ? target_q : v_plus;
     wire [37:0]   v_down = down_clamp ? target_q : v_minus;
@@ -575,6 +600,8 @@ module halfpoint_profile #(
             v_q         <= 38'd0;
             v_zero_q    <= 1'b1;
             target_q    <= 38'd0;
+            target_minus_accel_q <= {(VW+1){1'b0}};
+            target_plus_accel_q  <= {(VW+1){1'b0}};
             credit_q    <= 42'd0;
             over_axis_q <= OVER_AXIS_ZERO;
             over_diagonal_q <= OVER_DIAGONAL_ZERO;
@@ -582,6 +609,7 @@ module halfpoint_profile #(
             gain_q      <= 38'd0;
             s_q         <= {DW{1'b0}};
             since_q     <= {DIV{1'b1}};
+            tick_done_q <= 1'b1;
             last_up_q   <= 1'b0;
             last_down_q <= 1'b0;
             ov_part_a_q <= 38'd0;
@@ -600,12 +628,16 @@ module halfpoint_profile #(
             v_zero_q <= !cur_valid_n || v_n_zero;
             gain_q <= gain_zero ? 38'd0 : v_n;
             target_q <= target_n;
+            target_minus_accel_q <= take_now ? tm_new : tm_old;
+            target_plus_accel_q  <= take_now ? tp_new : tp_old;
             if (step_up || step_down) begin
                 last_up_q   <= step_up;
                 last_down_q <= step_down;
                 since_q     <= {DIV{1'b0}};
+                tick_done_q <= 1'b0;
             end else if (!tick_done) begin
                 since_q <= since_q + SINCE_ONE;
+                tick_done_q <= (since_q == SINCE_LAST);
             end
             // the override's product
             ov_part_a_q <= ov_term0 + ov_term1;
@@ -651,26 +683,32 @@ module halfpoint_profile #(
         ramp_below_q       <= ramp_below_n;
     end
 
-    // the current profile's fields and what is derived from them: loaded on
-    // take, meaningless without a segment
-    wire [37:0]   next_exit_speed = (next_v_exit != 32'd0) ? {next_v_exit, 6'd0}
-                                                           : {4'd0, next_accel};
-    wire [RW-1:0] next_accel_wide = {{(RW-34){1'b0}}, next_accel};
-    wire [RW-1:0] next_exit_wide = {{(RW-38){1'b0}}, next_exit_speed};
-    wire [RW-1:0] next_cruise_wide = {{(RW-38){1'b0}}, next_v_cruise, 6'd0};
+    // the current profile's fields: loaded on take (also under rst or
+    // abort_now, which end the segment), meaningless without a segment
     always @(posedge clk) begin
-        if (take_now && !rst && !abort_now) begin
+        if (take_now) begin
             line_cost_q       <= next_line_cost;
             d_exit_q          <= next_d_exit;
             d_stop_q          <= next_d_stop;
-            exit_nonzero_q    <= (next_v_exit != 32'd0);
-            exit_speed_q      <= next_exit_speed;
-            exit_plus_accel_q <= {1'b0, next_exit_speed} + {5'd0, next_accel};
+            v_exit_q          <= next_v_exit;
             cap_q <= {(next_line_cost != 18'd0) ? next_line_cost : COST_DIAGONAL, 23'd0};
-            cruise_level_q    <= (next_cruise_wide << DIV) - next_cruise_wide;
-            accel_level_q     <= (next_accel_wide << DIV) - (next_accel_wide << 2);
-            exit_level_q      <= (next_exit_wide << DIV) - (next_exit_wide << 2);
         end
+    end
+    // what the staircase derives from them, registered on every edge from
+    // the current segment's registers: right from a segment's second clock,
+    // the first the staircase can start on (past_exit_q and past_stop_q are
+    // low on a segment's first clock), so that a take loads only the fields
+    wire [37:0]   exit_speed_n = (v_exit_q != 32'd0) ? {v_exit_q, 6'd0} : {4'd0, accel_q};
+    wire [RW-1:0] accel_n_wide = {{(RW-34){1'b0}}, accel_q};
+    wire [RW-1:0] exit_n_wide = {{(RW-38){1'b0}}, exit_speed_n};
+    wire [RW-1:0] cruise_n_wide = {{(RW-38){1'b0}}, cruise};
+    always @(posedge clk) begin
+        exit_nonzero_q    <= (v_exit_q != 32'd0);
+        exit_speed_q      <= exit_speed_n;
+        exit_plus_accel_q <= {1'b0, exit_speed_n} + {5'd0, accel_q};
+        cruise_level_q    <= (cruise_n_wide << DIV) - cruise_n_wide;
+        accel_level_q     <= (accel_n_wide << DIV) - (accel_n_wide << 2);
+        exit_level_q      <= (exit_n_wide << DIV) - (exit_n_wide << 2);
     end
 
     // dry survives abort; the override is registered on every edge
