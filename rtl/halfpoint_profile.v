@@ -60,12 +60,30 @@
 //                  v_cruise_q (the model's ov_prod) and their sum
 //   cruise_level_q, accel_level_q, exit_level_q DIV+42: cruise x (2^DIV-1),
 //                  accel x (2^DIV-4), exit speed x (2^DIV-4), signed; with
-//                  exit_speed_q, exit_plus_accel_q, exit_nonzero_q and cap_q
-//                  derived from the profile when it is taken
+//                  exit_speed_q, exit_plus_accel_q and exit_nonzero_q
+//                  derived on every edge from the current fields (v_cruise_q,
+//                  accel_q, v_exit_q), right from a segment's second clock,
+//                  the first the staircase can start on; cap_q is loaded
+//                  with the fields
+//   Kept beside the model's registers, so that each decision comes from the
+//   sign of a register or one carry chain from registers (the test checks
+//   each against the model's values every clock it is meaningful):
+//   over_axis_q, over_diagonal_q, over_line_q 43 signed: credit - (cost <<
+//                  22) for the three costs (> -2^40, < 2^42); their signs are
+//                  the pop's compares
+//   target_minus_accel_q, target_plus_accel_q 39: target -/+ accel (the
+//                  first signed, > -2^34), the clamps of the speed's step
+//   tick_done_q    since_q at its top
+//   ramp_down_level_q, ramp_floor_level_q DIV+42 signed, ramp_below_q: the
+//                  level the staircase adds at its next step, stepping down
+//                  by accel ((ramp_v << DIV) - accel_level) or to the floor
+//                  (floor_level + 4 ramp_v), and which way it steps (ramp_v <
+//                  floor + accel); loaded by a start, meaningful while the
+//                  staircase runs
 //   cur_valid_q, v_cruise_q, accel_q (both kept after the segment),
-//   line_cost_q, d_exit_q, d_stop_q, last_up_q / last_down_q (the model's
-//   last_dir), dry_q, past_exit_q, past_stop_q, ramp_on_q, ramp_dry_q: as in
-//   the model's table and class.
+//   line_cost_q, d_exit_q, d_stop_q, v_exit_q, last_up_q / last_down_q (the
+//   model's last_dir), dry_q, past_exit_q, past_stop_q, ramp_on_q,
+//   ramp_dry_q: as in the model's table and class.
 //
 // Parameters: see the comment above each (an illegal value stops
 // elaboration).
