@@ -71,8 +71,6 @@
 //   over_axis_q, over_diagonal_q, over_line_q 43 signed: credit - (cost <<
 //                  22) for the three costs (> -2^40, < 2^42); their signs are
 //                  the pop's compares
-//   target_minus_accel_q, target_plus_accel_q 39: target -/+ accel (the
-//                  first signed, > -2^34), the clamps of the speed's step
 //   tick_done_q    since_q at its top
 //   ramp_down_level_q, ramp_floor_level_q DIV+42 signed, ramp_below_q: the
 //                  level the staircase adds at its next step, stepping down
@@ -186,10 +184,6 @@ module halfpoint_profile #(
     reg  [RW-1:0] exit_level_q;     // exit_speed x (2^DIV - 4), signed
     reg  [37:0]   v_q;              // speed
     reg  [37:0]   target_q;         // its target, a clock ahead
-    // target - accel (39 bits signed) and target + accel, for the clamps of
-    // the speed's step
-    reg  [VW:0]   target_minus_accel_q;
-    reg  [VW:0]   target_plus_accel_q;
     reg  [41:0]   credit_q;
     // credit - (65536 << 22), credit - (92682 << 22) and credit - (line_cost
     // << 22), CW bits signed: their signs are the compares of the credit with
@@ -514,38 +508,8 @@ module halfpoint_profile #(
     wire [37:0]   target_base = ov_under_cruise ? ov_target_q : cruise;
     wire          ramp_limits = ramp_on_q && (ov_under_cruise ? ramp_under_ov
                                                               : ramp_under_cruise);
-    wire          target_zero_n = !cur_valid_q || hold || stop;
-    wire [37:0]   target_n = target_zero_n ? 38'd0
+    wire [37:0]   target_n = (!cur_valid_q || hold || stop) ? 38'd0
                              : (ramp_limits ? ramp_v_q : target_base);
-    // the same less and plus the speed step of the next clock (the next
-    // segment's on a take): every candidate target with both steps, one carry
-    // chain each from registers and inputs, selected as the target is
-    wire [VW:0]   am_old = {5'd0, accel_q};
-    wire [VW:0]   am_new = {5'd0, next_accel};
-    wire [VW:0]   tm_ramp_old = {1'b0, ramp_v_q} - am_old;
-    wire [VW:0]   tm_ov_old = {1'b0, ov_target_q} - am_old;
-    wire [VW:0]   tm_cruise_old = {1'b0, cruise} - am_old;
-    wire [VW:0]   tm_ramp_new = {1'b0, ramp_v_q} - am_new;
-    wire [VW:0]   tm_ov_new = {1'b0, ov_target_q} - am_new;
-    wire [VW:0]   tm_cruise_new = {1'b0, cruise} - am_new;
-    wire [VW:0]   tp_ramp_old = {1'b0, ramp_v_q} + am_old;
-    wire [VW:0]   tp_ov_old = {1'b0, ov_target_q} + am_old;
-    wire [VW:0]   tp_cruise_old = {1'b0, cruise} + am_old;
-    wire [VW:0]   tp_ramp_new = {1'b0, ramp_v_q} + am_new;
-    wire [VW:0]   tp_ov_new = {1'b0, ov_target_q} + am_new;
-    wire [VW:0]   tp_cruise_new = {1'b0, cruise} + am_new;
-    wire [VW:0]   tm_old = target_zero_n ? -am_old
-                           : (ramp_limits ? tm_ramp_old
-                              : (ov_under_cruise ? tm_ov_old : tm_cruise_old));
-    wire [VW:0]   tm_new = target_zero_n ? -am_new
-                           : (ramp_limits ? tm_ramp_new
-                              : (ov_under_cruise ? tm_ov_new : tm_cruise_new));
-    wire [VW:0]   tp_old = target_zero_n ? am_old
-                           : (ramp_limits ? tp_ramp_old
-                              : (ov_under_cruise ? tp_ov_old : tp_cruise_old));
-    wire [VW:0]   tp_new = target_zero_n ? am_new
-                           : (ramp_limits ? tp_ramp_new
-                              : (ov_under_cruise ? tp_ov_new : tp_cruise_new));
 
     // The override's product (v_cruise << 6) x ov_q >> 7 with ov_q <= 128:
     // ov = 128 gives the cruise speed; else the sum of v_cruise << b over the
@@ -582,12 +546,24 @@ module halfpoint_profile #(
     wire          step_down = (target_q < v_q) && (!last_down_q || tick_done);
     wire [37:0]   v_plus = v_q + {4'd0, accel_q};
     wire [37:0]   v_minus = v_q - {4'd0, accel_q};
-    // v + accel > target: v > target - accel, v + ~target_minus_accel >= 0
-    // (40 bits signed), one carry chain from registers
-    wire [VW+1:0] up_diff = {2'd0, v_q} + ~{target_minus_accel_q[VW], target_minus_accel_q};
+    // v + accel > target: v + accel + ~target >= 0 (40 bits signed; the
+    // same as v + accel - target - 1 >= 0), one carry-save level, one chain
+    wire [39:0]   up_a = {2'd0, v_q};
+    wire [39:0]   up_b = {6'd0, accel_q};
+    wire [39:0]   up_c = ~{2'd0, target_q};
+    wire [39:0]   up_x = up_a ^ up_b ^ up_c;
+    wire [38:0] up_m = (up_a[38:0] & up_b[38:0]) | (up_a[38:0] & up_c[38:0])
+                       | (up_b[38:0] & up_c[38:0]);
+    wire [VW+1:0] up_diff = up_x + {up_m, 1'b0};
     wire          up_clamp = !up_diff[VW+1];
-    // v - accel < target: v < target + accel, target_plus_accel + ~v >= 0
-    wire [VW+1:0] dn_diff = {1'b0, target_plus_accel_q} + ~{2'd0, v_q};
+    // v - accel < target: target + accel + ~v >= 0
+    wire [39:0]   dn_a = {2'd0, target_q};
+    wire [39:0]   dn_b = {6'd0, accel_q};
+    wire [39:0]   dn_c = ~{2'd0, v_q};
+    wire [39:0]   dn_x = dn_a ^ dn_b ^ dn_c;
+    wire [38:0] dn_m = (dn_a[38:0] & dn_b[38:0]) | (dn_a[38:0] & dn_c[38:0])
+                       | (dn_b[38:0] & dn_c[38:0]);
+    wire [VW+1:0] dn_diff = dn_x + {dn_m, 1'b0};
     wire          down_clamp = !dn_diff[VW+1];
     wire [37:0]   v_up = up_clamp ? target_q : v_plus;
     wire [37:0]   v_down = down_clamp ? target_q : v_minus;
@@ -618,8 +594,6 @@ module halfpoint_profile #(
             v_q         <= 38'd0;
             v_zero_q    <= 1'b1;
             target_q    <= 38'd0;
-            target_minus_accel_q <= {(VW+1){1'b0}};
-            target_plus_accel_q  <= {(VW+1){1'b0}};
             credit_q    <= 42'd0;
             over_axis_q <= OVER_AXIS_ZERO;
             over_diagonal_q <= OVER_DIAGONAL_ZERO;
@@ -646,8 +620,6 @@ module halfpoint_profile #(
             v_zero_q <= !cur_valid_n || v_n_zero;
             gain_q <= gain_zero ? 38'd0 : v_n;
             target_q <= target_n;
-            target_minus_accel_q <= take_now ? tm_new : tm_old;
-            target_plus_accel_q  <= take_now ? tp_new : tp_old;
             if (step_up || step_down) begin
                 last_up_q   <= step_up;
                 last_down_q <= step_down;

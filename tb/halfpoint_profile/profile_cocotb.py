@@ -359,9 +359,6 @@ class Monitor:
         got["ov_prod"] = sum(int(getattr(d, f"ov_part_{k}_q").value) for k in "abcd")
         # the credit less the axis and diagonal costs (always) and the line cost (with
         # a segment): their signs are the compares the pop uses
-        # the target less and plus the speed step (the clamps of the next step)
-        got["target_minus_accel"] = signed(int(d.target_minus_accel_q.value), 39)
-        got["target_plus_accel"] = int(d.target_plus_accel_q.value)
         got["over_axis"] = signed(int(d.over_axis_q.value), 43)
         got["over_diagonal"] = signed(int(d.over_diagonal_q.value), 43)
         if got["cur_valid"]:
@@ -412,8 +409,6 @@ def model_registers(model: ProfileStage, fresh: bool = False) -> dict:
             "ov_target": model.ov_target, "past_exit": int(model.past_exit),
             "past_stop": int(model.past_stop), "ramp_on": int(model.ramp_on),
             "ramp_dry": int(model.ramp_dry), "ramp_v": model.ramp_v}
-    want["target_minus_accel"] = model.target - model.accel
-    want["target_plus_accel"] = model.target + model.accel
     want["over_axis"] = model.credit - (pf.COST_AXIS << pf.COST_SHIFT)
     want["over_diagonal"] = model.credit - (pf.COST_DIAG << pf.COST_SHIFT)
     if model.cur is not None:
