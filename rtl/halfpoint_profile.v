@@ -60,12 +60,28 @@
 //                  v_cruise_q (the model's ov_prod) and their sum
 //   cruise_level_q, accel_level_q, exit_level_q DIV+42: cruise x (2^DIV-1),
 //                  accel x (2^DIV-4), exit speed x (2^DIV-4), signed; with
-//                  exit_speed_q, exit_plus_accel_q, exit_nonzero_q and cap_q
-//                  derived from the profile when it is taken
+//                  exit_speed_q, exit_plus_accel_q and exit_nonzero_q
+//                  derived on every edge from the current fields (v_cruise_q,
+//                  accel_q, v_exit_q), right from a segment's second clock,
+//                  the first the staircase can start on; cap_q is loaded
+//                  with the fields
+//   Kept beside the model's registers, so that each decision comes from the
+//   sign of a register or one carry chain from registers (the test checks
+//   each against the model's values every clock it is meaningful):
+//   over_axis_q, over_diagonal_q, over_line_q 43 signed: credit - (cost <<
+//                  22) for the three costs (> -2^40, < 2^42); their signs are
+//                  the pop's compares
+//   tick_done_q    since_q at its top
+//   ramp_down_level_q, ramp_floor_level_q DIV+42 signed, ramp_below_q: the
+//                  level the staircase adds at its next step, stepping down
+//                  by accel ((ramp_v << DIV) - accel_level) or to the floor
+//                  (floor_level + 4 ramp_v), and which way it steps (ramp_v <
+//                  floor + accel); loaded by a start, meaningful while the
+//                  staircase runs
 //   cur_valid_q, v_cruise_q, accel_q (both kept after the segment),
-//   line_cost_q, d_exit_q, d_stop_q, last_up_q / last_down_q (the model's
-//   last_dir), dry_q, past_exit_q, past_stop_q, ramp_on_q, ramp_dry_q: as in
-//   the model's table and class.
+//   line_cost_q, d_exit_q, d_stop_q, v_exit_q, last_up_q / last_down_q (the
+//   model's last_dir), dry_q, past_exit_q, past_stop_q, ramp_on_q,
+//   ramp_dry_q: as in the model's table and class.
 //
 // Parameters: see the comment above each (an illegal value stops
 // elaboration).
@@ -138,10 +154,15 @@ module halfpoint_profile #(
     localparam integer DW = W + 19;                             // distances
     localparam integer RW = DIV + 42;                           // ramp_left
     localparam integer VW = 38;                                 // speeds
+    localparam integer CW = 43;                                 // credit less a cost
     localparam [17:0] COST_AXIS = 18'd65536;                    // 2^16
     localparam [17:0] COST_DIAGONAL = 18'd92682;                // round(sqrt(2) x 2^16)
     localparam [7:0] OVERRIDE_ONE = 8'd128;
+    // the credit less the axis / diagonal cost when the credit is 0
+    localparam [CW-1:0] OVER_AXIS_ZERO = {CW{1'b0}} - {{(CW-40){1'b0}}, COST_AXIS, 22'd0};
+    localparam [CW-1:0] OVER_DIAGONAL_ZERO = {CW{1'b0}} - {{(CW-40){1'b0}}, COST_DIAGONAL, 22'd0};
     localparam [DIV-1:0] SINCE_ONE = 1;
+    localparam [DIV-1:0] SINCE_LAST = {DIV{1'b1}} - SINCE_ONE;  // the count before the top
 
     // ------------------------------------------------------------------
     // Registers
@@ -152,22 +173,31 @@ module halfpoint_profile #(
     reg  [17:0]   line_cost_q;
     reg  [DW-1:0] d_exit_q;
     reg  [DW-1:0] d_stop_q;
-    // derived from the fields when the profile is taken
+    reg  [31:0]   v_exit_q;
+    reg  [40:0]   cap_q;            // twice the largest cost, x 2^22, loaded with them
+    // derived from the fields on the clock after the take
     reg           exit_nonzero_q;   // v_exit != 0
     reg  [37:0]   exit_speed_q;     // v_exit << 6, or the creep speed accel for 0
     reg  [38:0]   exit_plus_accel_q;    // exit_speed + accel
-    reg  [40:0]   cap_q;            // twice the largest cost, x 2^22
     reg  [RW-1:0] cruise_level_q;   // (v_cruise << 6) x (2^DIV - 1): the first level
     reg  [RW-1:0] accel_level_q;    // accel x (2^DIV - 4), signed
     reg  [RW-1:0] exit_level_q;     // exit_speed x (2^DIV - 4), signed
     reg  [37:0]   v_q;              // speed
     reg  [37:0]   target_q;         // its target, a clock ahead
     reg  [41:0]   credit_q;
+    // credit - (65536 << 22), credit - (92682 << 22) and credit - (line_cost
+    // << 22), CW bits signed: their signs are the compares of the credit with
+    // the three costs (updated as the credit, with the line cost the next
+    // segment's from a take on)
+    reg  [CW-1:0] over_axis_q;
+    reg  [CW-1:0] over_diagonal_q;
+    reg  [CW-1:0] over_line_q;
     // the credit's gain: 0 when the credit was at its cap a clock ago (the
     // model's full), else v (a copy of v_q for the credit's paths)
     reg  [37:0]   gain_q;
     reg  [DW-1:0] s_q;              // popped distance in the segment
     reg  [DIV-1:0] since_q;         // clocks since the last speed step - 1, saturating
+    reg           tick_done_q;      // since_q is at its top (a tick since the last step)
     reg           last_up_q;        // direction of the last speed step
     reg           last_down_q;
     reg           dry_q;            // sticky: a dry queue forced a deceleration
@@ -183,6 +213,14 @@ module halfpoint_profile #(
     reg           ramp_dry_q;
     reg  [37:0]   ramp_v_q;
     reg  [RW-1:0] ramp_left_q;      // two's complement
+    // the staircase's next level, ready for either way of its next step:
+    // (ramp_v << DIV) - accel_level (a step down by accel) and floor_level +
+    // 4 ramp_v (a step to the floor), floor_level that of the floor it heads
+    // for; and ramp_v < floor + accel (which way).  Meaningful only while the
+    // staircase runs (a start loads them)
+    reg  [RW-1:0] ramp_down_level_q;
+    reg  [RW-1:0] ramp_floor_level_q;
+    reg           ramp_below_q;
 
     // ------------------------------------------------------------------
     // Pop, take, stop, hold (ProfileStage.view)
@@ -201,11 +239,12 @@ module halfpoint_profile #(
         endcase
     end
     wire [19:0]   credit_whole = credit_q[41:22];              // credit in cost units
-    // the credit against each cost from registers alone; the head's class
-    // selects among them, so the inputs only meet the last LUTs
-    wire          covers_axis = |credit_whole[19:16];          // >= 2^16
-    wire          covers_diagonal = (credit_whole >= {2'b0, COST_DIAGONAL});
-    wire          covers_line = (credit_whole >= {2'b0, line_cost_q});
+    // the credit against each cost from registers alone (the signs of the
+    // credit less the diagonal and the line cost, kept beside it); the head's
+    // class selects among them, so the inputs only meet the last LUTs
+    wire          covers_axis = !over_axis_q[CW-1];
+    wire          covers_diagonal = !over_diagonal_q[CW-1];
+    wire          covers_line = !over_line_q[CW-1];
     reg           covers;
     always @(*) begin
         case (head_class)
@@ -220,8 +259,10 @@ module halfpoint_profile #(
     wire          take_idle = next_valid && !cur_valid_q && !stop;
     wire          can_pop = cur_valid_q && head_valid && covers;
     wire          pop_now = covers && pop_ok;
-    wire          take_now = (pop_now && take_last) || take_idle;
-    wire          segment_ends = pop_now && head_last;
+    // what the pop decides, as the last select (a pop means a segment, not
+    // stopped at rest, and no take without one)
+    wire          segment_runs = cur_valid_q && !at_rest_stop;
+    wire          take_now = pop_now ? take_last : take_idle;
 
     assign pop     = covers && pop_ok && !abort_now;
     assign take    = ((covers && pop_ok && take_last) || take_idle) && !abort_now;
@@ -243,7 +284,57 @@ module halfpoint_profile #(
     wire [40:0] cp_maj = (cp_a[40:0] & cp_b[40:0]) | (cp_a[40:0] & cp_c[40:0])
                          | (cp_b[40:0] & cp_c[40:0]);
     wire [41:0]   credit_popped = cp_sum + {cp_maj, 1'b1};
-    wire [41:0]   credit_new = pop_now ? credit_popped : credit_keep;
+    // without a pop: 0 when stopped at rest, + gain with a segment, else
+    // kept (and the line cost the next segment's on a take); a pop selects
+    // last
+    wire [41:0]   credit_rest = at_rest_stop ? 42'd0
+                                : (cur_valid_q ? credit_keep : credit_q);
+    // the same sums less the diagonal cost, and less the line cost: - cost
+    // and the +1 of its negation in a carry-save level as above
+    wire [CW-1:0] gain_credit = {{(CW-38){1'b0}}, gain};
+    wire [CW-1:0] cost_neg = ~{{(CW-40){1'b0}}, cost, 22'd0};
+    wire [CW-1:0] od_keep = over_diagonal_q + gain_credit;
+    wire [CW-1:0] od_x = over_diagonal_q ^ gain_credit ^ cost_neg;
+    wire [CW-2:0] od_m = (over_diagonal_q[CW-2:0] & gain_credit[CW-2:0])
+                         | (over_diagonal_q[CW-2:0] & cost_neg[CW-2:0])
+                         | (gain_credit[CW-2:0] & cost_neg[CW-2:0]);
+    wire [CW-1:0] od_popped = od_x + {od_m, 1'b1};
+    wire [CW-1:0] oa_keep = over_axis_q + gain_credit;
+    wire [CW-1:0] oa_x = over_axis_q ^ gain_credit ^ cost_neg;
+    wire [CW-2:0] oa_m = (over_axis_q[CW-2:0] & gain_credit[CW-2:0])
+                         | (over_axis_q[CW-2:0] & cost_neg[CW-2:0])
+                         | (gain_credit[CW-2:0] & cost_neg[CW-2:0]);
+    wire [CW-1:0] oa_popped = oa_x + {oa_m, 1'b1};
+    wire [CW-1:0] ol_keep = over_line_q + gain_credit;
+    wire [CW-1:0] ol_x = over_line_q ^ gain_credit ^ cost_neg;
+    wire [CW-2:0] ol_m = (over_line_q[CW-2:0] & gain_credit[CW-2:0])
+                         | (over_line_q[CW-2:0] & cost_neg[CW-2:0])
+                         | (gain_credit[CW-2:0] & cost_neg[CW-2:0]);
+    wire [CW-1:0] ol_popped = ol_x + {ol_m, 1'b1};
+    // a take on the segment's last move: credit + gain - cost - next line
+    // cost, two carry-save levels; a take without a segment: credit - next
+    // line cost; stop at rest: 0 - line cost
+    wire [CW-1:0] credit_wide = {{(CW-42){1'b0}}, credit_q};
+    wire [CW-1:0] next_line_neg = ~{{(CW-40){1'b0}}, next_line_cost, 22'd0};
+    wire [CW-1:0] ot_x = credit_wide ^ gain_credit ^ cost_neg;
+    wire [CW-2:0] ot_m = (credit_wide[CW-2:0] & gain_credit[CW-2:0])
+                         | (credit_wide[CW-2:0] & cost_neg[CW-2:0])
+                         | (gain_credit[CW-2:0] & cost_neg[CW-2:0]);
+    wire [CW-1:0] ot_y = {ot_m, 1'b1};
+    wire [CW-1:0] ot_x2 = ot_x ^ ot_y ^ next_line_neg;
+    wire [CW-2:0] ot_m2 = (ot_x[CW-2:0] & ot_y[CW-2:0]) | (ot_x[CW-2:0] & next_line_neg[CW-2:0])
+                          | (ot_y[CW-2:0] & next_line_neg[CW-2:0]);
+    wire [CW-1:0] ol_take = ot_x2 + {ot_m2, 1'b1};
+    wire [CW-1:0] ol_idle = credit_wide - {{(CW-40){1'b0}}, next_line_cost, 22'd0};
+    wire [CW-1:0] ol_stop = {CW{1'b0}} - {{(CW-40){1'b0}}, line_cost_q, 22'd0};
+    wire [CW-1:0] oa_rest = at_rest_stop ? OVER_AXIS_ZERO
+                            : (cur_valid_q ? oa_keep : over_axis_q);
+    wire [CW-1:0] od_rest = at_rest_stop ? OVER_DIAGONAL_ZERO
+                            : (cur_valid_q ? od_keep : over_diagonal_q);
+    wire [CW-1:0] ol_rest = at_rest_stop ? ol_stop
+                            : (cur_valid_q ? ol_keep : (take_idle ? ol_idle : over_line_q));
+    wire [DW-1:0] s_plus = s_q + {{(DW-18){1'b0}}, cost};
+    wire [DW-1:0] s_rest = at_rest_stop ? {DW{1'b0}} : s_q;
     wire          at_cap = (credit_q >= {1'b0, cap_q});
 
     // earned distance E = s + credit / 2^22 against d_exit and d_stop:
@@ -270,9 +361,8 @@ module halfpoint_profile #(
     wire          dry_condition = !next_valid && exit_nonzero_q;
     wire [37:0]   floor_held = ramp_dry_q ? {4'd0, accel_q} : exit_speed_q;
     wire [38:0]   floor_plus_accel = ramp_dry_q ? {4'd0, accel_q, 1'b0} : exit_plus_accel_q;
-    wire          ramp_below = ({1'b0, ramp_v_q} < floor_plus_accel);
     wire [37:0]   ramp_down = ramp_v_q - {4'd0, accel_q};
-    wire [37:0]   ramp_stepped = ramp_below ? floor_held : ramp_down;
+    wire [37:0]   ramp_stepped = ramp_below_q ? floor_held : ramp_down;
     wire          exit_above = (exit_speed_q > ramp_v_q);
     reg           ramp_on_n;        // after this edge (before the segment's end clears it)
     reg           ramp_dry_n;
@@ -310,39 +400,95 @@ module halfpoint_profile #(
         end
     end
     wire [37:0]   ramp_v_n = ramp_step ? ramp_stepped : ramp_v_a;
+    // the next level ready for the staircase's speed after this edge, for
+    // both ways of its next step, and which way it goes (ramp_below_q:
+    // ramp_v < floor + accel), each from registers alone: the staircase's
+    // speed and floor change only by a start, a step or a return from the dry
+    // queue, and each candidate is one carry chain from registers
+    wire          dry_return = ramp_on_q && ramp_dry_q && !dry_condition;
+    wire [RW-1:0] accel_wide = {{(RW-34){1'b0}}, accel_q};
+    wire [RW-1:0] cruise_wide = {{(RW-38){1'b0}}, cruise};
+    wire [RW-1:0] exit_wide = {{(RW-38){1'b0}}, exit_speed_q};
+    wire [RW-1:0] ramp_v_wide = {{(RW-38){1'b0}}, ramp_v_q};
+    wire [RW-1:0] exit_shifted = exit_wide << DIV;              // exit_level + 4 exit
+    wire [RW-1:0] accel_shifted = accel_wide << DIV;            // accel_level + 4 accel
+    // (v << DIV) - accel_level: at the cruise speed, at the exit speed, one step down
+    wire [RW-1:0] cruise_down_level = (cruise_wide << DIV) - accel_level_q;
+    wire [RW-1:0] exit_down_level = exit_shifted - accel_level_q;
+    wire [RW-1:0] next_down_level = ramp_down_level_q - accel_shifted;
+    // floor_level + 4 v: at the cruise speed (either floor), one step down,
+    // back from the dry queue at the staircase's speed
+    wire [RW-1:0] cruise_four = cruise_wide << 2;
+    wire [RW-1:0] cruise_floor_exit = exit_level_q + cruise_four;
+    wire [RW-1:0] cruise_floor_dry = accel_level_q + cruise_four;
+    wire [RW-1:0] next_floor_level = ramp_floor_level_q - (accel_wide << 2);
+    wire [RW-1:0] back_floor_level = exit_level_q + (ramp_v_wide << 2);
+    // below after a start, after a step down (ramp_v - accel < floor + accel,
+    // one carry-save level) and after a return from the dry queue
+    wire          cruise_below_exit = ({1'b0, cruise} < exit_plus_accel_q);
+    wire          cruise_below_dry = ({1'b0, cruise} < {4'd0, accel_q, 1'b0});
+    // accel + floor_plus_accel > ramp_v: accel + floor_plus_accel + ~ramp_v >= 0
+    wire [39:0]   nb_a = {6'd0, accel_q};
+    wire [39:0]   nb_b = {1'b0, floor_plus_accel};
+    wire [39:0]   nb_c = ~{2'd0, ramp_v_q};
+    wire [39:0]   nb_x = nb_a ^ nb_b ^ nb_c;
+    wire [38:0]   nb_m = (nb_a[38:0] & nb_b[38:0]) | (nb_a[38:0] & nb_c[38:0])
+                         | (nb_b[38:0] & nb_c[38:0]);
+    wire [VW+1:0] nb_diff = nb_x + {nb_m, 1'b0};
+    wire          next_below = !nb_diff[VW+1];
+    wire          back_below = ({1'b0, ramp_v_q} < exit_plus_accel_q);
+    reg  [RW-1:0] ramp_down_level_n;
+    reg  [RW-1:0] ramp_floor_level_n;
+    reg           ramp_below_n;
+    always @(*) begin
+        ramp_down_level_n  = ramp_down_level_q;
+        ramp_floor_level_n = ramp_floor_level_q;
+        ramp_below_n       = ramp_below_q;
+        if (ramp_start) begin
+            ramp_down_level_n  = cruise_down_level;
+            ramp_floor_level_n = ramp_dry_n ? cruise_floor_dry : cruise_floor_exit;
+            ramp_below_n       = ramp_dry_n ? cruise_below_dry : cruise_below_exit;
+        end else if (ramp_step && ramp_below_q) begin
+            // at the floor: floor_level + 4 floor = floor << DIV
+            ramp_down_level_n  = ramp_dry_q ? (accel_wide << 2) : exit_down_level;
+            ramp_floor_level_n = ramp_dry_q ? accel_shifted : exit_shifted;
+            ramp_below_n       = 1'b1;
+        end else if (ramp_step) begin
+            ramp_down_level_n  = next_down_level;
+            ramp_floor_level_n = next_floor_level;
+            ramp_below_n       = next_below;
+        end else if (dry_return) begin
+            ramp_down_level_n  = exit_above ? exit_down_level : ramp_down_level_q;
+            ramp_floor_level_n = exit_above ? exit_shifted : back_floor_level;
+            ramp_below_n       = exit_above || back_below;
+        end
+    end
     // the remainder: - gain every clock; a step adds the next level,
     // (stepped << DIV) + 4 x (ramp_v - stepped), i.e. (ramp_v << DIV) -
     // accel x (2^DIV - 4) unclamped and floor x (2^DIV - 4) + (ramp_v << 2)
     // at the floor; each as two carry-save levels and one carry chain
     wire [RW-1:0] gain_wide = {{(RW-38){1'b0}}, gain};
     wire [RW-1:0] gain_neg = ~gain_wide;                        // -gain - 1
-    wire [RW-1:0] left_held = ramp_left_q - gain_wide;
-    wire [RW-1:0] left_start = cruise_level_q - gain_wide;
-    wire [RW-1:0] rv_level = {{(RW-38){1'b0}}, ramp_v_q} << DIV;
-    wire [RW-1:0] su_x = ramp_left_q ^ gain_neg ^ rv_level;
-    wire [RW-2:0] su_m = (ramp_left_q[RW-2:0] & gain_neg[RW-2:0])
-                         | (ramp_left_q[RW-2:0] & rv_level[RW-2:0])
-                         | (gain_neg[RW-2:0] & rv_level[RW-2:0]);
-    wire [RW-1:0] su_y = {su_m, 1'b1};
-    wire [RW-1:0] su_k = ~accel_level_q;
-    wire [RW-1:0] su_x2 = su_x ^ su_y ^ su_k;
-    wire [RW-2:0] su_m2 = (su_x[RW-2:0] & su_y[RW-2:0]) | (su_x[RW-2:0] & su_k[RW-2:0])
-                          | (su_y[RW-2:0] & su_k[RW-2:0]);
-    wire [RW-1:0] left_step_down = su_x2 + {su_m2, 1'b1};
-    wire [RW-1:0] floor_level = ramp_dry_q ? accel_level_q : exit_level_q;
-    wire [RW-1:0] rv_four = {{(RW-38){1'b0}}, ramp_v_q} << 2;
-    wire [RW-1:0] sf_x = ramp_left_q ^ gain_neg ^ floor_level;
+    // the remainder held: - gain; while the staircase is off it is loaded
+    // with the first level (its value there is not used), so a start needs
+    // no candidate of its own
+    wire [RW-1:0] left_base = ramp_on_q ? ramp_left_q : cruise_level_q;
+    wire [RW-1:0] left_held = left_base - gain_wide;
+    // a step: - gain + the level, kept ready in two registers for the two
+    // ways the step can go (ramp_down_level_q, ramp_floor_level_q); one
+    // carry-save level and one carry chain each
+    wire [RW-1:0] sd_x = ramp_left_q ^ gain_neg ^ ramp_down_level_q;
+    wire [RW-2:0] sd_m = (ramp_left_q[RW-2:0] & gain_neg[RW-2:0])
+                         | (ramp_left_q[RW-2:0] & ramp_down_level_q[RW-2:0])
+                         | (gain_neg[RW-2:0] & ramp_down_level_q[RW-2:0]);
+    wire [RW-1:0] left_step_down = sd_x + {sd_m, 1'b1};
+    wire [RW-1:0] sf_x = ramp_left_q ^ gain_neg ^ ramp_floor_level_q;
     wire [RW-2:0] sf_m = (ramp_left_q[RW-2:0] & gain_neg[RW-2:0])
-                         | (ramp_left_q[RW-2:0] & floor_level[RW-2:0])
-                         | (gain_neg[RW-2:0] & floor_level[RW-2:0]);
-    wire [RW-1:0] sf_y = {sf_m, 1'b1};
-    wire [RW-1:0] sf_x2 = sf_x ^ sf_y ^ rv_four;
-    wire [RW-2:0] sf_m2 = (sf_x[RW-2:0] & sf_y[RW-2:0]) | (sf_x[RW-2:0] & rv_four[RW-2:0])
-                          | (sf_y[RW-2:0] & rv_four[RW-2:0]);
-    wire [RW-1:0] left_step_floor = sf_x2 + {sf_m2, 1'b0};
-    wire [RW-1:0] left_sum = ramp_start ? left_start
-                             : (!ramp_step ? left_held
-                                : (ramp_below ? left_step_floor : left_step_down));
+                         | (ramp_left_q[RW-2:0] & ramp_floor_level_q[RW-2:0])
+                         | (gain_neg[RW-2:0] & ramp_floor_level_q[RW-2:0]);
+    wire [RW-1:0] left_step_floor = sf_x + {sf_m, 1'b1};
+    wire [RW-1:0] left_sum = !ramp_step ? left_held
+                             : (ramp_below_q ? left_step_floor : left_step_down);
     // saturating at -2^(DIV+40) (profile.ramp_left_floor): below it the top
     // two bits are 10
     wire          left_under = left_sum[RW-1] && !left_sum[RW-2];
@@ -395,7 +541,7 @@ module halfpoint_profile #(
     // Speed: one step of accel towards the registered target, same-direction
     // steps a tick apart
     // ------------------------------------------------------------------
-    wire          tick_done = &since_q;
+    wire          tick_done = tick_done_q;
     wire          step_up = (target_q > v_q) && (!last_up_q || tick_done);
     wire          step_down = (target_q < v_q) && (!last_down_q || tick_done);
     wire [37:0]   v_plus = v_q + {4'd0, accel_q};
@@ -423,9 +569,22 @@ module halfpoint_profile #(
     wire [37:0]   v_down = down_clamp ? target_q : v_minus;
     wire [37:0]   v_n = step_up ? v_up : (step_down ? v_down : v_q);
 
-    wire          cur_valid_n = take_now || (cur_valid_q && !at_rest_stop && !segment_ends);
-    wire          same_segment = cur_valid_q && !at_rest_stop && !segment_ends;
+    wire          cur_valid_n = pop_now ? (!head_last || next_valid) : (segment_runs || take_idle);
+    wire          same_segment = pop_now ? !head_last : segment_runs;
     wire [37:0]   v_next = cur_valid_n ? v_n : 38'd0;
+    // the credit's gain is 0 after this edge without a segment or at the cap
+    wire          gain_zero = pop_now ? (head_last ? !next_valid : at_cap)
+                                      : (segment_runs ? at_cap : !take_idle);
+    // v_next == 0 without the pop in front of a 38-bit compare: whether v_n is 0
+    // comes from registers (v_plus is 0 only for v = accel = 0: it is taken only
+    // when it does not pass the target, so it does not wrap), the pop ends with
+    // one gate
+    wire          target_zero = (target_q == 38'd0);
+    wire          v_minus_zero = (v_q == {4'd0, accel_q});
+    wire          v_plus_zero = v_zero_q && (accel_q == 34'd0);
+    wire          v_up_zero = up_clamp ? target_zero : v_plus_zero;
+    wire          v_down_zero = down_clamp ? target_zero : v_minus_zero;
+    wire          v_n_zero = step_up ? v_up_zero : (step_down ? v_down_zero : v_zero_q);
 
     always @(posedge clk) begin
         if (rst || abort_now) begin
@@ -436,9 +595,13 @@ module halfpoint_profile #(
             v_zero_q    <= 1'b1;
             target_q    <= 38'd0;
             credit_q    <= 42'd0;
+            over_axis_q <= OVER_AXIS_ZERO;
+            over_diagonal_q <= OVER_DIAGONAL_ZERO;
+            over_line_q <= {CW{1'b0}};
             gain_q      <= 38'd0;
             s_q         <= {DW{1'b0}};
             since_q     <= {DIV{1'b1}};
+            tick_done_q <= 1'b1;
             last_up_q   <= 1'b0;
             last_down_q <= 1'b0;
             ov_part_a_q <= 38'd0;
@@ -454,15 +617,17 @@ module halfpoint_profile #(
         end else begin
             // speed and its cadence; no segment after this edge: the speed is 0
             v_q <= v_next;
-            v_zero_q <= (v_next == 38'd0);
-            gain_q <= (same_segment && at_cap) ? 38'd0 : v_next;
+            v_zero_q <= !cur_valid_n || v_n_zero;
+            gain_q <= gain_zero ? 38'd0 : v_n;
             target_q <= target_n;
             if (step_up || step_down) begin
                 last_up_q   <= step_up;
                 last_down_q <= step_down;
                 since_q     <= {DIV{1'b0}};
+                tick_done_q <= 1'b0;
             end else if (!tick_done) begin
                 since_q <= since_q + SINCE_ONE;
+                tick_done_q <= (since_q == SINCE_LAST);
             end
             // the override's product
             ov_part_a_q <= ov_term0 + ov_term1;
@@ -471,17 +636,12 @@ module halfpoint_profile #(
             ov_part_d_q <= ov_term6 | ov_term7;
             ov_target_q <= ov_sum;
             // credit and distance
-            if (at_rest_stop) begin
-                credit_q <= 42'd0;
-                s_q      <= {DW{1'b0}};
-            end else if (cur_valid_q) begin
-                credit_q <= credit_new;
-                if (segment_ends) begin
-                    s_q <= {DW{1'b0}};
-                end else if (pop_now) begin
-                    s_q <= s_q + {{(DW-18){1'b0}}, cost};
-                end
-            end
+            credit_q        <= pop_now ? credit_popped : credit_rest;
+            over_axis_q     <= pop_now ? oa_popped : oa_rest;
+            over_diagonal_q <= pop_now ? od_popped : od_rest;
+            over_line_q     <= pop_now ? (head_last && next_valid ? ol_take : ol_popped)
+                                       : ol_rest;
+            s_q             <= pop_now ? (head_last ? {DW{1'b0}} : s_plus) : s_rest;
             // compares of this clock's registers, for the next clock
             past_exit_q <= same_segment && earned_past_exit;
             past_stop_q <= same_segment && earned_past_stop;
@@ -507,29 +667,38 @@ module halfpoint_profile #(
     // start loads it afresh, so it is computed on every edge without a reset
     // or a clear (the model's 0 while the staircase is off is not held)
     always @(posedge clk) begin
-        ramp_left_q <= ramp_left_n;
+        ramp_left_q        <= ramp_left_n;
+        ramp_down_level_q  <= ramp_down_level_n;
+        ramp_floor_level_q <= ramp_floor_level_n;
+        ramp_below_q       <= ramp_below_n;
     end
 
-    // the current profile's fields and what is derived from them: loaded on
-    // take, meaningless without a segment
-    wire [37:0]   next_exit_speed = (next_v_exit != 32'd0) ? {next_v_exit, 6'd0}
-                                                           : {4'd0, next_accel};
-    wire [RW-1:0] next_accel_wide = {{(RW-34){1'b0}}, next_accel};
-    wire [RW-1:0] next_exit_wide = {{(RW-38){1'b0}}, next_exit_speed};
-    wire [RW-1:0] next_cruise_wide = {{(RW-38){1'b0}}, next_v_cruise, 6'd0};
+    // the current profile's fields: loaded on take (also under rst or
+    // abort_now, which end the segment), meaningless without a segment
     always @(posedge clk) begin
-        if (take_now && !rst && !abort_now) begin
+        if (take_now) begin
             line_cost_q       <= next_line_cost;
             d_exit_q          <= next_d_exit;
             d_stop_q          <= next_d_stop;
-            exit_nonzero_q    <= (next_v_exit != 32'd0);
-            exit_speed_q      <= next_exit_speed;
-            exit_plus_accel_q <= {1'b0, next_exit_speed} + {5'd0, next_accel};
+            v_exit_q          <= next_v_exit;
             cap_q <= {(next_line_cost != 18'd0) ? next_line_cost : COST_DIAGONAL, 23'd0};
-            cruise_level_q    <= (next_cruise_wide << DIV) - next_cruise_wide;
-            accel_level_q     <= (next_accel_wide << DIV) - (next_accel_wide << 2);
-            exit_level_q      <= (next_exit_wide << DIV) - (next_exit_wide << 2);
         end
+    end
+    // what the staircase derives from them, registered on every edge from
+    // the current segment's registers: right from a segment's second clock,
+    // the first the staircase can start on (past_exit_q and past_stop_q are
+    // low on a segment's first clock), so that a take loads only the fields
+    wire [37:0]   exit_speed_n = (v_exit_q != 32'd0) ? {v_exit_q, 6'd0} : {4'd0, accel_q};
+    wire [RW-1:0] accel_n_wide = {{(RW-34){1'b0}}, accel_q};
+    wire [RW-1:0] exit_n_wide = {{(RW-38){1'b0}}, exit_speed_n};
+    wire [RW-1:0] cruise_n_wide = {{(RW-38){1'b0}}, cruise};
+    always @(posedge clk) begin
+        exit_nonzero_q    <= (v_exit_q != 32'd0);
+        exit_speed_q      <= exit_speed_n;
+        exit_plus_accel_q <= {1'b0, exit_speed_n} + {5'd0, accel_q};
+        cruise_level_q    <= (cruise_n_wide << DIV) - cruise_n_wide;
+        accel_level_q     <= (accel_n_wide << DIV) - (accel_n_wide << 2);
+        exit_level_q      <= (exit_n_wide << DIV) - (exit_n_wide << 2);
     end
 
     // dry survives abort; the override is registered on every edge

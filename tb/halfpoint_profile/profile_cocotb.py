@@ -349,21 +349,34 @@ class Monitor:
     def outputs(self) -> dict:
         return {k: int(getattr(self.dut, k).value) for k in OUTPUTS}
 
-    def registers(self) -> dict:
+    def registers(self, fresh: bool = False) -> dict:
         d = self.dut
         got = {k: int(getattr(d, k + "_q").value) for k in (
             "cur_valid", "accel", "v_cruise", "v", "target", "credit", "gain", "s", "since",
             "last_up", "last_down", "dry", "ov", "ov_target", "past_exit", "past_stop",
-            "ramp_on", "ramp_dry", "ramp_v")}
+            "ramp_on", "ramp_dry", "ramp_v", "tick_done")}
         # the model's ov_prod is held as four partial sums
         got["ov_prod"] = sum(int(getattr(d, f"ov_part_{k}_q").value) for k in "abcd")
+        # the credit less the axis and diagonal costs (always) and the line cost (with
+        # a segment): their signs are the compares the pop uses
+        got["over_axis"] = signed(int(d.over_axis_q.value), 43)
+        got["over_diagonal"] = signed(int(d.over_diagonal_q.value), 43)
+        if got["cur_valid"]:
+            got["over_line"] = signed(int(d.over_line_q.value), 43)
         rw = ramp_left_width()
         if got["ramp_on"]:
             # meaningful only while the staircase runs (the RTL does not clear it)
             got["ramp_left"] = signed(int(d.ramp_left_q.value), rw)
+            # the next level kept ready for either way of the next step
+            for k in ("ramp_down_level", "ramp_floor_level"):
+                got[k] = signed(int(getattr(d, k + "_q").value), rw)
+            got["ramp_below"] = int(d.ramp_below_q.value)
         if got["cur_valid"]:
-            for k in ("exit_speed", "exit_plus_accel", "line_cost", "d_exit", "d_stop",
-                      "cap", "cruise_level"):
+            for k in ("line_cost", "d_exit", "d_stop", "cap", "v_exit"):
+                got[k] = int(getattr(d, k + "_q").value)
+        if got["cur_valid"] and not fresh:
+            # derived from the fields on a segment's first clock
+            for k in ("exit_speed", "exit_plus_accel", "cruise_level"):
                 got[k] = int(getattr(d, k + "_q").value)
             for k in ("accel_level", "exit_level"):
                 got[k] = signed(int(getattr(d, k + "_q").value), rw)
@@ -383,8 +396,11 @@ def model_view(view) -> dict:
     return {k: int(bool(getattr(view, k))) for k in VIEW}
 
 
-def model_registers(model: ProfileStage) -> dict:
-    want = {"cur_valid": int(model.cur is not None), "accel": model.accel,
+def model_registers(model: ProfileStage, fresh: bool = False) -> dict:
+    """The model's registers as the RTL holds them; ``fresh``: the clock after a take
+    (the RTL derives the staircase's products from the fields on that clock)."""
+    want = {"tick_done": int(model.since >= model.tick),
+            "cur_valid": int(model.cur is not None), "accel": model.accel,
             "v_cruise": model.v_cruise, "v": model.v, "target": model.target,
             "credit": model.credit, "gain": 0 if model.full else model.v, "s": model.s,
             "since": model.since - 1,
@@ -393,17 +409,30 @@ def model_registers(model: ProfileStage) -> dict:
             "ov_target": model.ov_target, "past_exit": int(model.past_exit),
             "past_stop": int(model.past_stop), "ramp_on": int(model.ramp_on),
             "ramp_dry": int(model.ramp_dry), "ramp_v": model.ramp_v}
+    want["over_axis"] = model.credit - (pf.COST_AXIS << pf.COST_SHIFT)
+    want["over_diagonal"] = model.credit - (pf.COST_DIAG << pf.COST_SHIFT)
+    if model.cur is not None:
+        want["over_line"] = model.credit - (model.cur.line_cost << pf.COST_SHIFT)
     if model.ramp_on:
         want["ramp_left"] = model.ramp_left
+        # the RTL keeps the level of the staircase's next step ready both ways:
+        # a step down by accel ((ramp_v << DIV) - accel (2^DIV - 4)) and a step to
+        # the floor (floor (2^DIV - 4) + 4 ramp_v), and which one it is
+        c, tick = model.cur, 1 << DIV
+        floor = model.accel if model.ramp_dry or not c.v_exit else c.v_exit << pf.SPEED_SHIFT
+        want.update(ramp_down_level=(model.ramp_v << DIV) - model.accel * (tick - pf.RAMP_LAG),
+                    ramp_floor_level=floor * (tick - pf.RAMP_LAG) + pf.RAMP_LAG * model.ramp_v,
+                    ramp_below=int(model.ramp_v < floor + model.accel))
     if model.cur is not None:
         c = model.cur
+        want.update(line_cost=c.line_cost, d_exit=c.d_exit, d_stop=c.d_stop,
+                    v_exit=c.v_exit, cap=(c.largest_cost() << pf.COST_SHIFT) << 1)
+    if model.cur is not None and not fresh:
         # the RTL keeps v_exit as the staircase's exit speed (the creep speed for 0)
-        # and the products of the levels, derived when the profile is taken
+        # and the products of the levels, derived on the segment's first clock
         exit_speed = c.v_exit << pf.SPEED_SHIFT if c.v_exit else c.accel
         tick = 1 << DIV
         want.update(exit_speed=exit_speed, exit_plus_accel=exit_speed + c.accel,
-                    line_cost=c.line_cost, d_exit=c.d_exit, d_stop=c.d_stop,
-                    cap=(c.largest_cost() << pf.COST_SHIFT) << 1,
                     cruise_level=(c.v_cruise << pf.SPEED_SHIFT) * (tick - 1),
                     accel_level=c.accel * (tick - pf.RAMP_LAG),
                     exit_level=exit_speed * (tick - pf.RAMP_LAG))
@@ -480,10 +509,10 @@ class Bench:
             self.model.reset()
         await self.compare_registered("reset")
 
-    async def compare_registered(self, context: str) -> None:
+    async def compare_registered(self, context: str, fresh: bool = False) -> None:
         self.checker.registered(self.clock, self.monitor.outputs(), model_outputs(self.model),
-                                self.monitor.registers(), model_registers(self.model),
-                                context)
+                                self.monitor.registers(fresh),
+                                model_registers(self.model, fresh), context)
 
     async def run_program(self, program: Program, events: Events) -> None:
         self.stim.start(program, events)
@@ -499,7 +528,7 @@ class Bench:
             over = self.stim.advance(inp, w, self.model)
             await FallingEdge(self.dut.clk)
             self.clock += 1
-            await self.compare_registered(context)
+            await self.compare_registered(context, fresh=w.take)
             if over:
                 return
 
