@@ -97,66 +97,48 @@ module halfpoint_stepgen #(
     assign busy      = !in_low;
 
     wire take = req && in_low && (req_dir ? ready_pos : ready_neg);
+    wire flip = take && (req_dir != dir_q);
 
-    // Next state.  The request is the late input (it comes from the pacing's
-    // decision in the same clock), so both outcomes are computed from
-    // registers and settings alone and take only selects between them.
-    // Without a request: LOW counts the inactive time; SETUP and HIGH count
-    // down and leave when the count reaches 1.
-    reg  [1:0]    idle_state_n;
-    reg  [TW-1:0] idle_count_n, idle_low_time_n;
+    // next state
+    reg  [1:0]    state_n;
+    reg  [TW-1:0] count_n, low_time_n;
     always @(*) begin
-        idle_state_n    = state_q;
-        idle_count_n    = count_q;
-        idle_low_time_n = low_time_q;
+        state_n = state_q;
+        count_n    = count_q;
+        low_time_n = low_time_q;
         case (state_q)
             STATE_LOW: begin
-                if (low_time_q != MAX_T) begin
-                    idle_low_time_n = low_time_q + ONE_T;
+                if (take) begin
+                    if (flip && cfg_dirsetup != {TW{1'b0}}) begin
+                        state_n = STATE_SETUP;
+                        count_n = cfg_dirsetup;
+                    end else begin
+                        state_n = STATE_HIGH;
+                        count_n = step_length;
+                    end
+                end else if (low_time_q != MAX_T) begin
+                    low_time_n = low_time_q + ONE_T;
                 end
             end
             STATE_SETUP: begin
                 if (count_q <= ONE_T) begin
-                    idle_state_n = STATE_HIGH;
-                    idle_count_n = step_length;
+                    state_n = STATE_HIGH;
+                    count_n = step_length;
                 end else begin
-                    idle_count_n = count_q - ONE_T;
+                    count_n = count_q - ONE_T;
                 end
             end
             default: begin   // STATE_HIGH
                 if (count_q <= ONE_T) begin
-                    idle_state_n = STATE_LOW;
-                    idle_low_time_n = ONE_T;
+                    state_n = STATE_LOW;
+                    low_time_n = ONE_T;
                 end else begin
-                    idle_count_n = count_q - ONE_T;
+                    count_n = count_q - ONE_T;
                 end
             end
         endcase
     end
-    // A request taken (only in LOW): a flip with dirsetup > 0 waits in SETUP,
-    // anything else makes STEP active; the inactive time stays as it was.
-    wire          setup_first    = (req_dir != dir_q) && (cfg_dirsetup != {TW{1'b0}});
-    reg  [1:0]    take_state_n;
-    reg  [TW-1:0] take_count_n;
-    always @(*) begin
-        if (setup_first) begin
-            take_state_n = STATE_SETUP;
-            take_count_n = cfg_dirsetup;
-        end else begin
-            take_state_n = STATE_HIGH;
-            take_count_n = step_length;
-        end
-    end
-    // low_time >= stepspace and >= dirhold for either outcome, from registers
-    wire          idle_space_ok  = (idle_low_time_n >= cfg_stepspace);
-    wire          idle_hold_ok   = (idle_low_time_n >= cfg_dirhold);
-    wire          take_space_ok  = (low_time_q >= cfg_stepspace);
-    wire          take_hold_ok   = (low_time_q >= cfg_dirhold);
-
-    wire [1:0]    state_n    = take ? take_state_n : idle_state_n;
-    wire [TW-1:0] count_n    = take ? take_count_n : idle_count_n;
-    wire [TW-1:0] low_time_n = take ? low_time_q : idle_low_time_n;
-    wire          dir_n      = take ? req_dir : dir_q;
+    wire dir_n = take ? req_dir : dir_q;
 
     always @(posedge clk) begin
         if (rst) begin
@@ -173,8 +155,8 @@ module halfpoint_stepgen #(
             count_q    <= count_n;
             low_time_q <= low_time_n;
             dir_q      <= dir_n;
-            space_ok_q <= take ? take_space_ok : idle_space_ok;
-            hold_ok_q  <= take ? take_hold_ok : idle_hold_ok;
+            space_ok_q <= (low_time_n >= cfg_stepspace);
+            hold_ok_q  <= (low_time_n >= cfg_dirhold);
             // pins are registered copies of the next state, with polarity
             step_pin <= (state_n == STATE_HIGH) ^ cfg_step_inv;
             dir_pin  <= dir_n ^ cfg_dir_inv;
