@@ -10,39 +10,51 @@ from __future__ import annotations
 
 import pytest
 
-from halfpoint.sim.env import BUILD, REPO, icarus_missing, rtl_sources, run_cocotb
+from halfpoint.sim.design import design_sources
+from halfpoint.sim.env import BUILD, REPO, icarus_missing, run_cocotb
 
 pytestmark = pytest.mark.skipif(icarus_missing() is not None,
                                 reason=icarus_missing() or "")
 
-CORE = ("halfpoint_core", "halfpoint_arc", "halfpoint_line", "halfpoint_stepgen",
-        "halfpoint_profile")
 
-# (module, sources, parameters, cocotb test module, the test(s) run, environment)
+# (module, its test directory, parameters, cocotb test module, the test(s) run, environment);
+# the sources are the module's design (design_sources: read from the RTL's instantiations)
 CASES = [
-    ("halfpoint_stepgen", ("halfpoint_stepgen",), {"TW": 4}, "stepgen_cocotb",
+    ("halfpoint_stepgen", "halfpoint_stepgen", {"TW": 4}, "stepgen_cocotb",
      ["timing_and_model"], {}),
-    ("halfpoint_line", ("halfpoint_line",), {"NA": 2, "W": 16}, "line_cocotb",
+    ("halfpoint_line", "halfpoint_line", {"NA": 2, "W": 16}, "line_cocotb",
      ["seed_example", "back_to_back"], {}),
-    ("halfpoint_arc", ("halfpoint_arc",), {"W": 16}, "arc_cocotb",
+    ("halfpoint_arc", "halfpoint_arc", {"W": 16}, "arc_cocotb",
      ["quadrant_pairs"], {}),
-    ("halfpoint_profile", ("halfpoint_profile",), {"W": 16, "DIV": 5}, "profile_cocotb",
+    ("halfpoint_profile", "halfpoint_profile", {"W": 16, "DIV": 5}, "profile_cocotb",
      ["raw_profiles"], {}),
-    ("halfpoint_core", CORE,
+    ("halfpoint_core", "halfpoint_core",
      {"NA": 2, "W": 16, "DEPTH": 8, "TW": 16, "DIV": 4, "MOVE_DEPTH": 2, "PROFILE_DEPTH": 1},
      "core_cocotb", ["mixed_program"], {}),
-    ("halfpoint_refloop", ("halfpoint_refloop",), {"WR": 34, "FOLD": 1}, "refloop_cocotb",
+    ("halfpoint_refloop", "halfpoint_refloop", {"WR": 34, "FOLD": 1}, "refloop_cocotb",
      ["recurrence"], {}),
-    ("halfpoint_uart_cmd", ("halfpoint_uart_cmd",),
+    ("halfpoint_uart_cmd", "halfpoint_uart_cmd",
      {"CLK_HZ": 1_000_000, "BAUD": 125_000, "IDLE_BITS": 12}, "uart_cmd_cocotb",
-     ["words_and_acks"], {"HP_SKEW": 0.0}),
+     ["commands_and_replies"], {"HP_SKEW": 0.0}),
+    ("halfpoint_outputs", "halfpoint_outputs", {"PWM_BITS": 4}, "outputs_cocotb",
+     ["pins_and_registers_match_the_model"], {}),
+    # known failure, as uart_top's below: the register interface's monitor
+    # (sim/regsbench.py) reads the register file's outputs from the first clock,
+    # before the reset edge, when Icarus shows them X (test_regs_tools.py compiles
+    # both slaves with Icarus -g2005)
+    pytest.param(
+        "halfpoint_wb", "halfpoint_regs",
+        {"NA": 2, "W": 16, "DEPTH": 8, "TW": 4, "DIV": 4, "MOVE_DEPTH": 2, "PROFILE_DEPTH": 1},
+        "regs_cocotb", ["every_register"], {},
+        marks=pytest.mark.xfail(strict=True, raises=SystemExit,
+                                reason="regsbench reads X outputs before reset")),
     # known failure: uart_top_cocotb's pin monitor converts the STEP/DIR pins
     # to int from the first clock edge, where Icarus (4-state) still shows X
     # (the step generators' flip-flops take their reset at that edge); the
     # fix belongs in tb/halfpoint_uart_top (skip unresolved samples).  strict:
     # this turns into a failure once fixed, so the mark is removed then.
     pytest.param(
-        "halfpoint_uart_top", ("halfpoint_uart_top", "halfpoint_uart_cmd") + CORE,
+        "halfpoint_uart_top", "halfpoint_uart_top",
         {"CLK_HZ": 1_000_000, "BAUD": 125_000, "NA": 3, "W": 32, "DEPTH": 4, "STEPLEN": 2,
          "STEPSPACE": 2, "DIRSETUP": 1, "DIRHOLD": 1, "BTN_ACTIVE_LOW": 1, "DIV": 3},
         "uart_top_cocotb", ["abort_and_reset_buttons"], {},
@@ -51,15 +63,15 @@ CASES = [
 ]
 
 
-@pytest.mark.parametrize("module, sources, parameters, test_module, testcases, env", CASES,
+@pytest.mark.parametrize("module, tests, parameters, test_module, testcases, env", CASES,
                          ids=[(c.values if hasattr(c, "values") else c)[0]
                               .removeprefix("halfpoint_") for c in CASES])
-def test_on_icarus(module, sources, parameters, test_module, testcases, env, monkeypatch):
-    monkeypatch.syspath_prepend(str(REPO / "tb" / module))     # the cocotb test module
+def test_on_icarus(module, tests, parameters, test_module, testcases, env, monkeypatch):
+    monkeypatch.syspath_prepend(str(REPO / "tb" / tests))      # the cocotb test module
     name = f"{module.removeprefix('halfpoint_')}_representative"
     run_cocotb(
         toplevel=module,
-        sources=rtl_sources(*sources),
+        sources=design_sources(module),
         test_module=test_module,
         test_dir=BUILD / "sim" / name / "run",      # run_cocotb moves it under icarus/
         parameters=parameters,

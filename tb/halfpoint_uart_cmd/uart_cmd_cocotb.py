@@ -63,7 +63,7 @@ class Bench:
         no word is offered it sleeps until one is (no coroutine call per clock)."""
         dut = self.dut
         while True:
-            if not int(dut.m_axis_tvalid.value):
+            if dut.m_axis_tvalid.value != 1:        # 0, or X before reset (Icarus)
                 dut.m_axis_tready.value = 0
                 await RisingEdge(dut.m_axis_tvalid)
             ready = int(not self.hold and self.rng.random() < self.ready_p)

@@ -35,6 +35,14 @@ PARAMETERS = ("NA", "W", "DEPTH", "TW", "DIV", "MOVE_DEPTH", "PROFILE_DEPTH")
 OUTPUT_PINS = ("spindle_enable", "spindle_reverse", "spindle_pwm", "coolant_mist",
                "coolant_flood")
 
+
+def _known(handle) -> int:
+    """A signal's value, 0 while it is not a resolvable 0/1 pattern (X or Z)."""
+    try:
+        return int(handle.value)
+    except ValueError:
+        return 0
+
 class Mismatch(AssertionError):
     pass
 
@@ -136,9 +144,12 @@ class RegsBench:
                 self.errors.append(got["err_code"])
             if got["resp_valid"]:
                 self.responses.append((got["resp_error"], got["resp_rdata"]))
-            req = Request(int(r.req_valid.value), int(r.req_write.value),
-                          int(r.req_addr.value), int(r.req_wdata.value),
-                          int(r.req_wstrb.value))
+            # a bus master leaves its lines undriven (Z, X in a 4-state simulator such
+            # as Icarus) between transfers: only a valid request's fields matter
+            valid = _known(r.req_valid)
+            req = Request(valid, *((_known(h) if valid else 0)
+                                   for h in (r.req_write, r.req_addr, r.req_wdata,
+                                             r.req_wstrb)))
             self.model.clock(req)
             self.cycle += 1
             self.last = got
