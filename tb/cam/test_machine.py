@@ -179,7 +179,7 @@ def _del(d, path):
 
 BAD = [
     # (change, key named, words of the reason)
-    (lambda d: _set(d, "spindle", 1), "spindle", "unknown key"),
+    (lambda d: _set(d, "spindel", 1), "spindel", "unknown key"),
     (lambda d: _set(d, "axis.a", {}), "axis.a", "unknown key"),
     (lambda d: _set(d, "axis.x.max_jerk", 1.0), "axis.x.max_jerk", "unknown key"),
     (lambda d: _set(d, "planner.lookahead", 8), "planner.lookahead", "unknown key"),

@@ -62,7 +62,8 @@ try:
 except ModuleNotFoundError:          # Python 3.10
     import tomli as tomllib
 
-from ..sim.env import BUILD, REPO, RTL, SIMULATORS, icarus_missing, setup_verilator_env
+from ..sim.env import (BUILD, REPO, RTL, SIMULATORS, icarus_missing, setup_verilator_env,
+                       test_results, timed_runner)
 
 OUT = BUILD / "mutate"
 EQUIVALENT = REPO / "tb" / "mutate" / "equivalent.toml"
@@ -234,27 +235,6 @@ def build_netlist(target: Target, mutations: list[Mutation], workdir: Path) -> P
     return wrapper
 
 
-def timed_runner(simulator: str, timeout: float | None):
-    """A cocotb runner whose simulation is killed after ``timeout`` seconds."""
-    from cocotb_tools.runner import get_runner
-
-    base = type(get_runner(simulator))
-
-    class Timed(base):
-        def _execute_cmds(self, cmds, cwd, stdout=None):
-            for cmd in cmds:
-                result = subprocess.run(cmd, cwd=cwd, env=self.env, check=False,
-                                        stdout=stdout,
-                                        stderr=None if stdout is None else subprocess.STDOUT,
-                                        timeout=self.time_limit)
-                if result.returncode != 0:
-                    raise RuntimeError(f"Command failed with return code: {result.returncode}")
-
-    runner = Timed()
-    runner.time_limit = timeout
-    return runner
-
-
 def build_sim(target: Target, workdir: Path, simulator: str) -> float:
     """Build the simulation of the wrapper once; returns seconds."""
     t0 = time.monotonic()
@@ -278,8 +258,6 @@ def build_sim(target: Target, workdir: Path, simulator: str) -> float:
 def run_one(target: Target, workdir: Path, simulator: str, index: int,
             timeout: float | None) -> tuple[str, str, float]:
     """Run the tests with mutsel = index: (KILLED|SURVIVED, detail, seconds)."""
-    from cocotb_tools.runner import get_results
-
     test_dir = workdir / "runs" / f"m{index:04d}"
     if test_dir.exists():
         shutil.rmtree(test_dir)
@@ -302,7 +280,7 @@ def run_one(target: Target, workdir: Path, simulator: str, index: int,
     except (RuntimeError, SystemExit) as e:
         return "KILLED", f"simulation failed: {e}"[:160], time.monotonic() - t0
     seconds = time.monotonic() - t0
-    total, failed = get_results(results)
+    total, failed = test_results(results)
     if total == 0:
         return "KILLED", "no test ran", seconds
     if failed:

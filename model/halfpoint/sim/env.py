@@ -158,3 +158,31 @@ def run_cocotb(
     if total == 0:
         raise RuntimeError(f"no cocotb test ran ({results})")
     return results
+
+
+def timed_runner(simulator: str, timeout: float | None):
+    """A cocotb runner whose simulation is killed after ``timeout`` seconds."""
+    from cocotb_tools.runner import get_runner
+
+    base = type(get_runner(simulator))
+
+    class Timed(base):
+        def _execute_cmds(self, cmds, cwd, stdout=None):
+            for cmd in cmds:
+                result = subprocess.run(cmd, cwd=cwd, env=self.env, check=False,
+                                        stdout=stdout,
+                                        stderr=None if stdout is None else subprocess.STDOUT,
+                                        timeout=self.time_limit)
+                if result.returncode != 0:
+                    raise RuntimeError(f"Command failed with return code: {result.returncode}")
+
+    runner = Timed()
+    runner.time_limit = timeout
+    return runner
+
+
+def test_results(path):
+    """cocotb's results of a run (``cocotb_tools.runner.get_results``): (tests, failures)."""
+    from cocotb_tools.runner import get_results
+
+    return get_results(path)
