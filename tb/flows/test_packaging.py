@@ -39,6 +39,7 @@ from pathlib import Path
 
 import pytest
 
+from halfpoint.sim.design import instantiated, rtl_modules, strip_comments
 from halfpoint.sim.env import REPO, RTL, verilator_root
 
 CORE_FILE = REPO / "halfpoint.core"
@@ -58,34 +59,6 @@ TIMEOUT = 300
 
 
 # ------------------------------------------------------------------ RTL reading
-
-def strip_comments(text: str) -> str:
-    text = re.sub(r"/\*.*?\*/", " ", text, flags=re.S)
-    return re.sub(r"//[^\n]*", "", text)
-
-
-def rtl_modules(rtl: Path) -> dict[str, Path]:
-    """module name -> file, for every module declared in rtl/*.v."""
-    found = {}
-    for path in sorted(rtl.glob("*.v")):
-        for name in re.findall(r"^\s*module\s+(\w+)", strip_comments(path.read_text()), re.M):
-            assert name not in found, f"module {name} declared in {found[name]} and {path}"
-            found[name] = path
-    return found
-
-
-def instantiated(text: str, known) -> set[str]:
-    """The modules of ``known`` that Verilog ``text`` instantiates
-    (``name #(...) inst (...)`` or ``name inst (...)``; comments ignored)."""
-    text = strip_comments(text)
-    used = set()
-    for name in known:
-        pattern = rf"(?<![\w`$.]){name}\b\s*(?:#\s*\(|[A-Za-z_]\w*\s*\()"
-        for m in re.finditer(pattern, text):
-            if not re.search(r"\bmodule\s+$", text[:m.start()]):
-                used.add(name)
-    return used
-
 
 def includes(text: str) -> set[str]:
     return set(re.findall(r'`include\s+"([^"]+)"', strip_comments(text)))

@@ -18,30 +18,34 @@ def read_parameters(dut, *names: str) -> tuple[int, ...]:
 
 # --- the files of a design, read from the RTL's own instantiations -----------------------
 
-def _strip_comments(text: str) -> str:
+def strip_comments(text: str) -> str:
+    """Verilog ``text`` without its comments."""
     import re
 
     text = re.sub(r"/\*.*?\*/", " ", text, flags=re.S)
     return re.sub(r"//[^\n]*", "", text)
 
 
-def _modules(rtl) -> dict:
-    """module name -> file, for every module declared in ``rtl``/*.v."""
+def rtl_modules(rtl) -> dict:
+    """module name -> file, for every module declared in ``rtl``/*.v (a module declared
+    twice is an error)."""
     import re
 
     found = {}
     for path in sorted(rtl.glob("*.v")):
-        for name in re.findall(r"^\s*module\s+(\w+)", _strip_comments(path.read_text()), re.M):
+        for name in re.findall(r"^\s*module\s+(\w+)", strip_comments(path.read_text()), re.M):
+            if name in found:
+                raise ValueError(f"module {name} declared in {found[name]} and {path}")
             found[name] = path
     return found
 
 
-def _instantiated(text: str, known) -> set:
+def instantiated(text: str, known) -> set:
     """The modules of ``known`` that Verilog ``text`` instantiates
-    (``name #(...) inst (...)`` or ``name inst (...)``)."""
+    (``name #(...) inst (...)`` or ``name inst (...)``; comments ignored)."""
     import re
 
-    text = _strip_comments(text)
+    text = strip_comments(text)
     used = set()
     for name in known:
         pattern = rf"(?<![\w`$.]){name}\b\s*(?:#\s*\(|[A-Za-z_]\w*\s*\()"
@@ -57,12 +61,12 @@ def design_sources(top: str, rtl=None) -> list:
     added to the core reaches every simulation without a list to update by hand."""
     from .env import RTL
 
-    modules = _modules(rtl or RTL)
+    modules = rtl_modules(rtl or RTL)
     files, todo = [], [top]
     while todo:
         path = modules[todo.pop(0)]
         if path in files:
             continue
         files.append(path)
-        todo += sorted(_instantiated(path.read_text(), modules))
+        todo += sorted(instantiated(path.read_text(), modules))
     return files
