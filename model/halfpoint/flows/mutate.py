@@ -155,9 +155,8 @@ def yosys(script: str, workdir: Path, log: str) -> None:
     script = script.replace(root, "").replace(str(REPO) + "/", "")
     path = workdir / f"{log}.ys"
     path.write_text(script)
-    rel = lambda p: os.path.relpath(p, REPO)      # noqa: E731
-    proc = subprocess.run([yosys_exe(), "-q", "-l", rel(workdir / f"{log}.log"), rel(path)],
-                          cwd=REPO, capture_output=True, text=True)
+    proc = subprocess.run([yosys_exe(), "-q", "-l", os.path.relpath(workdir / f"{log}.log", REPO),
+                           os.path.relpath(path, REPO)], cwd=REPO, capture_output=True, text=True)
     if proc.returncode != 0:
         tail = (proc.stdout + proc.stderr).strip().splitlines()[-5:]
         raise RuntimeError(f"yosys {path} failed:\n" + "\n".join(tail))
