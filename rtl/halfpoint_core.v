@@ -603,13 +603,13 @@ module halfpoint_core #(
     // on a pop it takes the next entry (or the move produced at that edge
     // when it becomes the head), so no memory read lies in front of the pop.
     reg [MOVE_W-1:0] move_head_q;
+    // the head after this edge, with and without a pop
+    wire [MOVE_W-1:0] head_after_pop = (move_count_q != MOVE_COUNT_ONE)
+                                       ? move_mem[move_next(move_read_q)] : produce_entry;
+    wire [MOVE_W-1:0] head_after_wait = (move_count_q == {(MOVE_INDEX_W+1){1'b0}})
+                                        ? produce_entry : move_head_q;
     always @(posedge clk) begin
-        if (stage_pop) begin
-            move_head_q <= (move_count_q != MOVE_COUNT_ONE) ? move_mem[move_next(move_read_q)]
-                                                            : produce_entry;
-        end else if (move_count_q == {(MOVE_INDEX_W+1){1'b0}}) begin
-            move_head_q <= produce_entry;
-        end
+        move_head_q <= stage_pop ? head_after_pop : head_after_wait;
     end
     always @(posedge clk) begin
         if (rst || flush) begin
@@ -679,8 +679,38 @@ module halfpoint_core #(
     // ------------------------------------------------------------------
     // Profile stage
     // ------------------------------------------------------------------
-    wire [NA-1:0] ready_pos, ready_neg, stepgen_busy;
-    wire          steps_ready = &(~head_step | (head_dir & ready_pos) | (~head_dir & ready_neg));
+    // Whether every axis the head move steps is ready for its direction, a
+    // register: at each edge it is computed for the head after the edge from
+    // the step generators' lookahead, for both outcomes of the pop (a popped
+    // move's axes are busy at the next clock), and the pop selects.  It equals
+    // the readiness of the head's axes on every clock, so the pop is a
+    // function of flip-flops (halfpoint.spec.stepgen StepGenModel.lookahead).
+    // the generators' own readiness is not needed by the logic; the core's
+    // tests check steps_ready_q against it on every clock
+    wire [NA-1:0] unused_ready_pos, unused_ready_neg, stepgen_busy;
+    wire [NA-1:0] stepgen_direction, next_ready_same, next_ready_reverse;
+    wire [NA-1:0] pop_step = head_after_pop[NA-1:0];
+    wire [NA-1:0] pop_dir  = head_after_pop[2*NA-1:NA];
+    wire [NA-1:0] wait_step = head_after_wait[NA-1:0];
+    wire [NA-1:0] wait_dir  = head_after_wait[2*NA-1:NA];
+    // each axis ready at the next clock for the direction of either head
+    wire [NA-1:0] pop_axis_ready = ~head_step & ((~(pop_dir ^ stepgen_direction)
+                                                  & next_ready_same)
+                                                 | ((pop_dir ^ stepgen_direction)
+                                                    & next_ready_reverse));
+    wire [NA-1:0] wait_axis_ready = (~(wait_dir ^ stepgen_direction) & next_ready_same)
+                                    | ((wait_dir ^ stepgen_direction) & next_ready_reverse);
+    wire          ready_after_pop = &(~pop_step | pop_axis_ready);
+    wire          ready_after_wait = &(~wait_step | wait_axis_ready);
+    reg           steps_ready_q;
+    always @(posedge clk) begin
+        if (rst) begin
+            steps_ready_q <= 1'b1;     // every generator is ready after reset
+        end else begin
+            steps_ready_q <= stage_pop ? ready_after_pop : ready_after_wait;
+        end
+    end
+    wire          steps_ready = steps_ready_q;
     wire          stage_holding, stage_busy;
     wire          unused_holding = stage_holding;
 
@@ -779,8 +809,11 @@ module halfpoint_core #(
                 .cfg_dir_inv   (cfg_dir_inv[a]),
                 .req           (go && head_step[a]),
                 .req_dir       (head_dir[a]),
-                .ready_pos     (ready_pos[a]),
-                .ready_neg     (ready_neg[a]),
+                .ready_pos     (unused_ready_pos[a]),
+                .ready_neg     (unused_ready_neg[a]),
+                .direction          (stepgen_direction[a]),
+                .next_ready_same    (next_ready_same[a]),
+                .next_ready_reverse (next_ready_reverse[a]),
                 .busy          (stepgen_busy[a]),
                 .step_pin      (step_pin[a]),
                 .dir_pin       (dir_pin[a])

@@ -21,6 +21,11 @@
 // the other direction changes DIR at the next clock and makes STEP active
 // dirsetup clocks later.
 //
+// Lookahead: direction, next_ready_same and next_ready_reverse give the
+// readiness of the next clock for the present direction and for a reversal,
+// if no request is taken at this edge (after a take neither is ready), so
+// that a requester can register its decision a clock ahead.
+//
 // Both pins are registers.  Settings may change at any time; they act from
 // the next decision on (on readiness, one clock later).
 //
@@ -53,6 +58,12 @@ module halfpoint_stepgen #(
     input  wire          req_dir,
     output wire          ready_pos,
     output wire          ready_neg,
+    // readiness a clock ahead: ready_pos / ready_neg at the next clock are
+    // (direction ? next_ready_same : next_ready_reverse) and the other one,
+    // if no request is taken at this edge (after a take both are low)
+    output wire          direction,
+    output wire          next_ready_same,
+    output wire          next_ready_reverse,
 
     /*
      * Status
@@ -108,6 +119,12 @@ module halfpoint_stepgen #(
         low_time_n = low_time_q;
         case (state_q)
             STATE_LOW: begin
+                // low_time counts on a take too (it is not read until the
+                // HIGH state's end sets it to 1), so that the readiness
+                // compares do not wait for the take
+                if (low_time_q != MAX_T) begin
+                    low_time_n = low_time_q + ONE_T;
+                end
                 if (take) begin
                     if (flip && cfg_dirsetup != {TW{1'b0}}) begin
                         state_n = STATE_SETUP;
@@ -116,8 +133,6 @@ module halfpoint_stepgen #(
                         state_n = STATE_HIGH;
                         count_n = step_length;
                     end
-                end else if (low_time_q != MAX_T) begin
-                    low_time_n = low_time_q + ONE_T;
                 end
             end
             STATE_SETUP: begin
@@ -140,6 +155,16 @@ module halfpoint_stepgen #(
     end
     wire dir_n = take ? req_dir : dir_q;
 
+    // readiness at the next clock without a take at this edge: LOW stays LOW,
+    // HIGH ends on its last clock; the compares are the ones registered below
+    // (low_time_n does not depend on the take)
+    wire space_ok_n = (low_time_n >= cfg_stepspace);
+    wire hold_ok_n  = (low_time_n >= cfg_dirhold);
+    wire low_next_idle = in_low || (state_q != STATE_SETUP && count_q <= ONE_T);
+    assign direction          = dir_q;
+    assign next_ready_same    = low_next_idle && space_ok_n;
+    assign next_ready_reverse = low_next_idle && space_ok_n && hold_ok_n;
+
     always @(posedge clk) begin
         if (rst) begin
             state_q    <= STATE_LOW;
@@ -155,8 +180,8 @@ module halfpoint_stepgen #(
             count_q    <= count_n;
             low_time_q <= low_time_n;
             dir_q      <= dir_n;
-            space_ok_q <= (low_time_n >= cfg_stepspace);
-            hold_ok_q  <= (low_time_n >= cfg_dirhold);
+            space_ok_q <= space_ok_n;
+            hold_ok_q  <= hold_ok_n;
             // pins are registered copies of the next state, with polarity
             step_pin <= (state_n == STATE_HIGH) ^ cfg_step_inv;
             dir_pin  <= dir_n ^ cfg_dir_inv;
@@ -188,7 +213,10 @@ module halfpoint_stepgen #(
     //              change (every rise and DIR change belongs to a take);
     //   readiness  exact: ready for the same direction iff idle and the
     //              inactive time reaches stepspace, for a reversal iff also
-    //              dirhold (settings of the clock before): no needless wait.
+    //              dirhold (settings of the clock before): no needless wait;
+    //   lookahead  ready_pos / ready_neg are what next_ready_same /
+    //              next_ready_reverse announced the clock before (low after
+    //              a take).
     // Labels: a_* the contract above, p_* its plain form, i_* invariants.
     // Settings are free inputs.  With F_STABLE_CFG (sby task "stable") they are
     // any constant values, and the four rules are asserted in the plain form
@@ -302,6 +330,15 @@ module halfpoint_stepgen #(
             end
         end
 
+    // the lookahead: ready_pos / ready_neg as the clock before announced them
+    // (none after a take; no promise across a reset)
+    reg f_next_valid, f_next_pos, f_next_neg;
+    always @(posedge clk) begin
+        f_next_valid <= !rst;
+        f_next_pos <= !f_take && (direction ? next_ready_same : next_ready_reverse);
+        f_next_neg <= !f_take && (direction ? next_ready_reverse : next_ready_same);
+    end
+
     // ---- the contract: pin rules and handshake ----------------------------
     always @(*)
         if (f_past_valid) begin
@@ -343,6 +380,9 @@ module halfpoint_stepgen #(
             a_ready_rev: assert((f_last_dir ? ready_neg : ready_pos)
                               == (!busy && f_lo_inc >= f_stepspace_q
                                   && f_lo_inc >= f_dirhold_q));
+            // lookahead: what the clock before announced
+            if (f_next_valid)
+                a_next_ready: assert(ready_pos == f_next_pos && ready_neg == f_next_neg);
         end
 
 `ifdef F_STABLE_CFG

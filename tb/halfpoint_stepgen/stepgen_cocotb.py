@@ -23,7 +23,13 @@ def bind(dut) -> None:
     global TW
     (TW,) = read_parameters(dut, "TW")
 
-FIELDS = ("step_pin", "dir_pin", "ready_pos", "ready_neg", "busy")
+FIELDS = ("step_pin", "dir_pin", "ready_pos", "ready_neg", "busy", "direction",
+          "next_ready_same", "next_ready_reverse")
+
+
+def expected(model: StepGenModel, cfg: StepCfg) -> dict:
+    """Every output of the model: the pins, readiness and the lookahead."""
+    return {**vars(model.outputs(cfg)), **vars(model.lookahead(cfg))}
 
 CONFIGS = [
     StepCfg(1, 1, 1, 1),
@@ -61,7 +67,7 @@ async def run_config(dut, cfg: StepCfg, rng: random.Random, nsteps: int, idle: f
     # in reset: pins at their idle levels (the inversions), ready (found by
     # mutation testing: a wrong reset value shows for one clock only)
     got = {k: int(getattr(dut, k).value) for k in FIELDS}
-    assert got == {k: vars(model.outputs(cfg))[k] for k in FIELDS}, f"in reset: {got}"
+    assert got == {k: expected(model, cfg)[k] for k in FIELDS}, f"in reset: {got}"
     dut.rst.value = 0
     model.clock(cfg, StepInputs(rst=1))
     # a random step sequence with runs of equal direction
@@ -76,7 +82,7 @@ async def run_config(dut, cfg: StepCfg, rng: random.Random, nsteps: int, idle: f
     while True:
         await FallingEdge(dut.clk)
         got = {k: int(getattr(dut, k).value) for k in FIELDS}
-        exp = vars(model.outputs(cfg))
+        exp = expected(model, cfg)
         bad = [k for k in FIELDS if got[k] != exp[k]]
         assert not bad, f"cycle {cycles}: " + ", ".join(f"{k}: rtl={got[k]} model={exp[k]}" for k in bad)
         checker.sample(got["step_pin"], got["dir_pin"])
@@ -102,15 +108,15 @@ async def run_config(dut, cfg: StepCfg, rng: random.Random, nsteps: int, idle: f
             for _ in range(2 * max(cfg.steplen, 1) + cfg.dirsetup + 4):
                 await FallingEdge(dut.clk)
                 got = {k: int(getattr(dut, k).value) for k in FIELDS}
-                exp = vars(model.outputs(cfg))
+                exp = expected(model, cfg)
                 assert got == {k: exp[k] for k in FIELDS}
                 checker.sample(got["step_pin"], got["dir_pin"])
                 dut.req.value = 0
                 model.clock(cfg, StepInputs())
             break
-    expected = sum(1 if x else -1 for x in want)
+    position = sum(1 if x else -1 for x in want)
     assert checker.steps == len(want), f"{checker.steps} pulses for {len(want)} requests"
-    assert checker.position == expected
+    assert checker.position == position
     return cycles
 
 

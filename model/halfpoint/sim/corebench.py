@@ -130,6 +130,7 @@ class CoreBench:
                     hist = "\n".join(f"  cycle {c}: {g}" for c, g in self.history[-6:])
                     self.failure = Mismatch(f"cycle {self.cycle}: {detail}\nrecent RTL outputs:\n{hist}")
                     raise self.failure
+                self._check_steps_ready()
             self.history = (self.history + [(self.cycle, got)])[-8:]
             for k, chk in enumerate(self.checkers):
                 chk.sample((got["step_pins"] >> k) & 1, (got["dir_pins"] >> k) & 1)
@@ -162,6 +163,22 @@ class CoreBench:
             self.cycle += 1
             self.last = got
             await FallingEdge(d.clk)
+
+    def _check_steps_ready(self) -> None:
+        """The core's registered readiness of the head move (computed a clock
+        ahead from the generators' lookahead) equals the readiness of the head's
+        axes as the generators report it now."""
+        d = self.dut
+        if not (d.head_step.value.is_resolvable and d.head_dir.value.is_resolvable):
+            return      # a four-state simulator before the head was first loaded
+        step, direction = int(d.head_step.value), int(d.head_dir.value)
+        pos, neg = int(d.unused_ready_pos.value), int(d.unused_ready_neg.value)
+        every = (1 << self.axes) - 1
+        ready = int((~step | (direction & pos) | (~direction & neg)) & every == every)
+        if int(d.steps_ready_q.value) != ready:
+            self.failure = Mismatch(f"cycle {self.cycle}: steps_ready_q "
+                                    f"{int(d.steps_ready_q.value)}, head axes ready {ready}")
+            raise self.failure
 
     async def send(self, cmds) -> None:
         for c in cmds:

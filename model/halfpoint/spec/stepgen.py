@@ -27,6 +27,7 @@ clock later; pins and counts use the settings of the clock itself.
 
 from __future__ import annotations
 
+import copy
 from dataclasses import dataclass
 
 S_LOW, S_SETUP, S_HIGH = range(3)
@@ -58,6 +59,13 @@ class StepOutputs:
     busy: int
 
 
+@dataclass
+class StepLookahead:
+    direction: int           # the logical direction, 1 = positive
+    next_ready_same: int     # ready for it at the next clock, if not taken now
+    next_ready_reverse: int  # ready for the other direction at the next clock, same
+
+
 class StepGenModel:
     def __init__(self, tw: int = 16):
         self.tw = tw
@@ -87,6 +95,18 @@ class StepGenModel:
             ready_neg=self._ready(cfg, 0),
             busy=int(self.state != S_LOW),
         )
+
+    def lookahead(self, cfg: StepCfg) -> StepLookahead:
+        """Readiness a clock ahead (the RTL's ``direction``, ``next_ready_same``,
+        ``next_ready_reverse``): ready for the present direction and for a
+        reversal at the next clock if no request is taken at this edge (after a
+        take the generator is busy, so neither).  The motion core registers its
+        pop's readiness from these."""
+        idle = copy.copy(self)
+        idle.clock(cfg, StepInputs())
+        return StepLookahead(direction=self.dir,
+                             next_ready_same=idle._ready(cfg, self.dir),
+                             next_ready_reverse=idle._ready(cfg, 1 - self.dir))
 
     def clock(self, cfg: StepCfg, i: StepInputs) -> None:
         if i.rst:
