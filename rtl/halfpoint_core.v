@@ -623,9 +623,19 @@ module halfpoint_core #(
             else if (stage_pop && !produce) move_count_q <= move_count_q - MOVE_COUNT_ONE;
         end
     end
+    // move_count_q != 0 as a register beside the count, for the pop
+    reg move_valid_q;
+    always @(posedge clk) begin
+        if (rst || flush) begin
+            move_valid_q <= 1'b0;
+        end else begin
+            move_valid_q <= produce || (move_count_q > MOVE_COUNT_ONE)
+                            || (move_valid_q && !stage_pop);
+        end
+    end
 
     wire [MOVE_W-1:0] move_head = move_head_q;
-    wire              move_valid = (move_count_q != {(MOVE_INDEX_W+1){1'b0}});
+    wire              move_valid = move_valid_q;
     wire [NA-1:0]     head_step = move_head[NA-1:0];
     wire [NA-1:0]     head_dir  = move_head[2*NA-1:NA];
     wire [1:0]        head_class = move_head[2*NA+1:2*NA];
@@ -670,9 +680,19 @@ module halfpoint_core #(
             else if (stage_take && !segment_load) pq_count_q <= pq_count_q - PQ_COUNT_ONE;
         end
     end
+    // pq_count_q != 0 as a register beside the count, for the take
+    reg pq_valid_q;
+    always @(posedge clk) begin
+        if (rst || flush) begin
+            pq_valid_q <= 1'b0;
+        end else begin
+            pq_valid_q <= segment_load || (pq_count_q > PQ_COUNT_ONE)
+                          || (pq_valid_q && !stage_take);
+        end
+    end
 
     wire [PQ_W-1:0]      pq_head = pq_mem[pq_read_q];
-    wire                 pq_valid = (pq_count_q != {(PQ_INDEX_W+1){1'b0}});
+    wire                 pq_valid = pq_valid_q;
     wire [PROFILE_W-1:0] next_profile = pq_head[PROFILE_W-1:0];
     wire                 next_cont = pq_head[PROFILE_W];
 
