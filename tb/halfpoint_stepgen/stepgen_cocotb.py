@@ -39,6 +39,11 @@ CONFIGS = [
     StepCfg(5, 7, 0, 3, 1, 0),
     StepCfg(2, 9, 6, 0, 0, 1),
     StepCfg(4, 1, 2, 8, 1, 1),
+    # one-clock pulses with a longer stepspace: the inactive time restarts at
+    # the end of the pulse, not from the time before it (found by mutation
+    # testing: no other setting tells them apart)
+    StepCfg(1, 3, 0, 2),
+    StepCfg(0, 4, 2, 5, 0, 1),
 ]
 
 
