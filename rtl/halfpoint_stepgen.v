@@ -155,15 +155,29 @@ module halfpoint_stepgen #(
     end
     wire dir_n = take ? req_dir : dir_q;
 
+    // low_time_n >= stepspace and >= dirhold (registered below), each compare
+    // from registers and settings, with the state selecting last: in LOW
+    // low_time_n is low_time_q + 1 (saturating), so it reaches a setting iff
+    // low_time_q reaches the setting less one (0 stays 0); at the HIGH
+    // state's end it is 1; otherwise it is low_time_q
+    wire [TW-1:0] space_less_one = cfg_stepspace - {{(TW-1){1'b0}}, (cfg_stepspace != 0)};
+    wire [TW-1:0] hold_less_one  = cfg_dirhold - {{(TW-1){1'b0}}, (cfg_dirhold != 0)};
+    wire          space_counting = (low_time_q >= space_less_one);
+    wire          hold_counting  = (low_time_q >= hold_less_one);
+    wire          space_at_one   = (cfg_stepspace <= ONE_T);
+    wire          hold_at_one    = (cfg_dirhold <= ONE_T);
+    wire          space_kept     = (low_time_q >= cfg_stepspace);
+    wire          hold_kept      = (low_time_q >= cfg_dirhold);
+    wire          high_ends = !in_low && state_q != STATE_SETUP && count_q <= ONE_T;
+    wire          space_ok_n = in_low ? space_counting : (high_ends ? space_at_one : space_kept);
+    wire          hold_ok_n  = in_low ? hold_counting : (high_ends ? hold_at_one : hold_kept);
+
     // readiness at the next clock without a take at this edge: LOW stays LOW,
-    // HIGH ends on its last clock; the compares are the ones registered below
-    // (low_time_n does not depend on the take)
-    wire space_ok_n = (low_time_n >= cfg_stepspace);
-    wire hold_ok_n  = (low_time_n >= cfg_dirhold);
-    wire low_next_idle = in_low || (state_q != STATE_SETUP && count_q <= ONE_T);
+    // HIGH ends on its last clock (low_time_n does not depend on the take)
+    wire next_same = in_low ? space_counting : (high_ends && space_at_one);
     assign direction          = dir_q;
-    assign next_ready_same    = low_next_idle && space_ok_n;
-    assign next_ready_reverse = low_next_idle && space_ok_n && hold_ok_n;
+    assign next_ready_same    = next_same;
+    assign next_ready_reverse = next_same && (in_low ? hold_counting : hold_at_one);
 
     always @(posedge clk) begin
         if (rst) begin
