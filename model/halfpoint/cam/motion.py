@@ -178,7 +178,7 @@ def build_motion(q, items, machine: Machine, width: int = WIDTH) -> MotionPlan:
             lengths.append(iters * lc)
             lcs.append(lc)
         elif dec[0] == "arc":
-            moves = segment_moves(dec, width)
+            moves = segment_moves(dec, width, AXES)
             if moves is None:
                 raise GcodeError(m.lineno, "the core would reject this arc command")
             diag = sum(1 for c in moves[1] if c == pf.CLASS_DIAG)
