@@ -5,7 +5,8 @@ import pytest
 
 from halfpoint.sim.env import BUILD, rtl_sources, run_cocotb
 
-CASES = [(6, 16), (3, 32)]
+# NA 6: both helix slots and every plane (NA 3 runs inside the core's own test)
+CASES = [(6, 16)]
 
 
 @pytest.mark.parametrize("axes, width", CASES, ids=[f"NA{a}-W{w}" for a, w in CASES])
