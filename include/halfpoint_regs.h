@@ -195,5 +195,9 @@
 #define HALFPOINT_E_PROFILE 6u
 /* profile fields break the rules (v_exit, accel, d_stop, d_exit) */
 #define HALFPOINT_E_PROFILE_FIELD 7u
+/* helix delta exceeds the arc's move count */
+#define HALFPOINT_E_HELIX 8u
+/* arc made a number of moves other than its count (helix steps dropped) */
+#define HALFPOINT_E_HELIX_COUNT 9u
 
 #endif /* HALFPOINT_REGS_H */

@@ -26,9 +26,9 @@
 `define HALFPOINT_CMD_OPCODE_WIDTH            4
 //   straight line, every axis
 `define HALFPOINT_OP_LINE                     4'd1
-//   arc in the XY plane, clockwise (G2)
+//   arc in the plane (u, v), clockwise (G2)
 `define HALFPOINT_OP_ARC_CW                   4'd2
-//   arc in the XY plane, counter-clockwise (G3)
+//   arc in the plane (u, v), counter-clockwise (G3)
 `define HALFPOINT_OP_ARC_CCW                  4'd3
 //   CONT: more segments of this program follow (for the underrun flag)
 `define HALFPOINT_FLAG_CONT_BIT               8
@@ -51,6 +51,20 @@
 `define HALFPOINT_CMD_ARC_X_WIDTH             32
 `define HALFPOINT_CMD_ARC_Y_LSB               160
 `define HALFPOINT_CMD_ARC_Y_WIDTH             32
+
+// arc: plane axes u, v (G17 0 1, G18 2 0, G19 1 2), move count N (0: none), helix deltas (signed)
+`define HALFPOINT_CMD_ARC_U_AXIS_LSB          16
+`define HALFPOINT_CMD_ARC_U_AXIS_WIDTH        3
+`define HALFPOINT_CMD_ARC_V_AXIS_LSB          20
+`define HALFPOINT_CMD_ARC_V_AXIS_WIDTH        3
+`define HALFPOINT_CMD_ARC_COUNT_LSB           32
+`define HALFPOINT_CMD_ARC_COUNT_WIDTH         32
+`define HALFPOINT_CMD_ARC_HELIX0_LSB          192
+`define HALFPOINT_CMD_ARC_HELIX0_WIDTH        32
+//   slot k's delta at CMD_ARC_HELIX0_LSB + k * CMD_ARC_HELIX_STRIDE
+`define HALFPOINT_CMD_ARC_HELIX_STRIDE        32
+//   helix slots of an arc command
+`define HALFPOINT_HELIX_SLOTS                 2
 
 // profile fields (unsigned; spec/profile.py gives their fixed point)
 `define HALFPOINT_CMD_PROFILE_V_CRUISE_LSB    32
@@ -92,7 +106,7 @@
     256'h000000000000000000000000000000000000000000000000fffffffffffffef0
 //   of an arc command
 `define HALFPOINT_CMD_RESERVED_ARC \
-    256'hffffffffffffffff00000000000000000000000000000000fffffffffffffef0
+    256'h00000000000000000000000000000000000000000000000000000000ff88fef0
 //   of a profile command
 `define HALFPOINT_CMD_RESERVED_PROFILE \
     256'h00000000000000000000000000000000000000000000000000000000fffffff0
@@ -118,5 +132,9 @@
 `define HALFPOINT_E_PROFILE                   4'd6
 //   profile fields break the rules (v_exit, accel, d_stop, d_exit)
 `define HALFPOINT_E_PROFILE_FIELD             4'd7
+//   helix delta exceeds the arc's move count
+`define HALFPOINT_E_HELIX                     4'd8
+//   arc made a number of moves other than its count (helix steps dropped)
+`define HALFPOINT_E_HELIX_COUNT               4'd9
 
 `endif  // HALFPOINT_CMD_VH

@@ -8,9 +8,11 @@
 // layout, opcodes and the error codes come from halfpoint_cmd.vh, generated
 // from the one definition in model/halfpoint/spec/encoding.py (tabled in the
 // README), so no field position is written here.  They wait in a queue of
-// DEPTH entries; a dispatcher hands them in program order to the arc unit (XY
-// plane, axes 0 and 1) or the line unit (all NA axes), with at most one
-// command in flight (handed over, not yet started).  A PROFILE command sets the
+// DEPTH entries; a dispatcher hands them in program order to the arc unit (in
+// the plane of the two axes the command names; halfpoint_helix maps its moves
+// onto them and steps the helix axes against the arc's move count) or the line
+// unit (all NA axes), with at most one command in flight (handed over, not yet
+// started).  A PROFILE command sets the
 // velocity profile in force for the motion commands that follow it.
 //
 // The interpolators are decoupled from the pacing (issue 13): the running unit
@@ -62,7 +64,7 @@
 `include "halfpoint_cmd.vh"
 
 module halfpoint_core #(
-    // number of axes, 2..6 (arcs move axes 0 and 1)
+    // number of axes, 2..6 (arcs in any plane of two axes, helices on up to two more)
     parameter integer NA    = 3,
     // coordinate and position width in bits, 8..32 (signed coordinates)
     parameter integer W     = 32,
@@ -248,6 +250,44 @@ module halfpoint_core #(
     wire        arc_fits = fits(arc_i) && fits(arc_j) && fits(arc_x) && fits(arc_y) &&
                            fits(arc_xs) && fits(arc_ys) && fits(arc_xe) && fits(arc_ye);
 
+    // arc plane and helix (halfpoint_helix): the plane's axes (u, v), the move
+    // count N, the helix slots' deltas; a delta in a slot this core does not have
+    // (min(2, NA - 2) slots) is a reserved bit set (E_OPCODE), the axis pair out of
+    // range or a delta beyond W is E_FIELD, |delta| > N is E_HELIX
+    localparam integer SLOTS = (NA - 2 < `HALFPOINT_HELIX_SLOTS) ? NA - 2
+                                                                 : `HALFPOINT_HELIX_SLOTS;
+    wire [2:0]  arc_u = cmd[`HALFPOINT_CMD_ARC_U_AXIS_LSB +: `HALFPOINT_CMD_ARC_U_AXIS_WIDTH];
+    wire [2:0]  arc_v = cmd[`HALFPOINT_CMD_ARC_V_AXIS_LSB +: `HALFPOINT_CMD_ARC_V_AXIS_WIDTH];
+    wire [31:0] arc_count = cmd[`HALFPOINT_CMD_ARC_COUNT_LSB +: `HALFPOINT_CMD_ARC_COUNT_WIDTH];
+    wire        arc_plane_ok = ({29'd0, arc_u} < NA) && ({29'd0, arc_v} < NA) &&
+                               (arc_u != arc_v);
+    reg         helix_fits, helix_reserved_set, helix_over;
+    reg  [1:0]  helix_negative;
+    reg  [2*W-1:0] helix_magnitude;
+    reg  [32:0] helix_delta, helix_abs;
+    integer h;
+    always @(*) begin
+        helix_fits = 1'b1;
+        helix_reserved_set = 1'b0;
+        helix_over = 1'b0;
+        helix_negative = 2'b00;
+        helix_magnitude = {2*W{1'b0}};
+        for (h = 0; h < `HALFPOINT_HELIX_SLOTS; h = h + 1) begin
+            helix_delta = sign_extend(cmd[`HALFPOINT_CMD_ARC_HELIX0_LSB +
+                                          `HALFPOINT_CMD_ARC_HELIX_STRIDE * h
+                                          +: `HALFPOINT_CMD_ARC_HELIX0_WIDTH]);
+            helix_abs = helix_delta[32] ? 33'd0 - helix_delta : helix_delta;
+            if (h < SLOTS) begin
+                if (!fits(helix_delta)) helix_fits = 1'b0;
+                if (helix_abs > {1'b0, arc_count}) helix_over = 1'b1;
+                helix_negative[h] = helix_delta[32];
+                helix_magnitude[h*W +: W] = helix_abs[W-1:0];
+            end else if (helix_delta != 33'd0) begin
+                helix_reserved_set = 1'b1;
+            end
+        end
+    end
+
     // output fields: power at most 100 % (else E_FIELD); the flags
     localparam integer OUTPUT_W = `HALFPOINT_CMD_OUTPUT_POWER_WIDTH + 6;
     wire [`HALFPOINT_CMD_OUTPUT_POWER_WIDTH-1:0] output_power =
@@ -289,7 +329,8 @@ module halfpoint_core #(
     wire is_output  = (opcode == `HALFPOINT_OP_OUTPUT);
     wire line_reserved = ((cmd & `HALFPOINT_CMD_RESERVED_LINE) != {`HALFPOINT_CMD_BITS{1'b0}}) ||
                          line_reserved_set;
-    wire arc_reserved  = ((cmd & `HALFPOINT_CMD_RESERVED_ARC) != {`HALFPOINT_CMD_BITS{1'b0}});
+    wire arc_reserved  = ((cmd & `HALFPOINT_CMD_RESERVED_ARC) != {`HALFPOINT_CMD_BITS{1'b0}}) ||
+                         helix_reserved_set;
     wire profile_reserved =
         ((cmd & `HALFPOINT_CMD_RESERVED_PROFILE) != {`HALFPOINT_CMD_BITS{1'b0}});
     wire output_reserved =
@@ -297,26 +338,32 @@ module halfpoint_core #(
     wire bad_opcode = !(is_line || is_arc || is_profile || is_output) ||
                       (is_line && line_reserved) || (is_arc && arc_reserved) ||
                       (is_profile && profile_reserved) || (is_output && output_reserved);
-    wire bad_fit = !bad_opcode && ((is_line && !line_fits) || (is_arc && !arc_fits) ||
+    wire bad_fit = !bad_opcode && ((is_line && !line_fits) ||
+                                   (is_arc && !(arc_fits && arc_plane_ok && helix_fits)) ||
                                    (is_output && !output_fits));
+    wire bad_helix = !bad_opcode && !bad_fit && is_arc && helix_over;
     wire bad_profile = !bad_opcode && is_profile && !profile_rules_ok;
     wire is_nop  = !bad_opcode && !bad_fit && is_line && line_zero;
 
     // queue entry: {payload, flags}; payload = line deltas, the arc's start and
-    // end relative to the centre {ye, xe, ys, xs}, or a profile
-    localparam integer MOTION_W  = (NA * W > 4 * W) ? NA * W : 4 * W;
+    // end relative to the centre {ye, xe, ys, xs} and its helix {signs,
+    // magnitudes, count, v, u}, or a profile
+    localparam integer ARC_W     = 6 * W + 40;
+    localparam integer MOTION_W  = (NA * W > ARC_W) ? NA * W : ARC_W;
     localparam integer PAYLOAD_W = (MOTION_W > PROFILE_W) ? MOTION_W : PROFILE_W;
-    localparam integer FLAGS_W   = 10;
+    localparam integer FLAGS_W   = 11;
     localparam integer ENTRY_W   = PAYLOAD_W + FLAGS_W;
     wire [PROFILE_W-1:0] in_profile = {profile_d_stop, profile_d_exit, profile_line_cost,
                                        profile_accel, profile_v_exit, profile_v_cruise};
     wire [PAYLOAD_W-1:0] in_payload =
         is_profile ? {{(PAYLOAD_W-PROFILE_W){1'b0}}, in_profile}
         : is_output ? {{(PAYLOAD_W-OUTPUT_W){1'b0}}, in_output}
-        : is_arc ? {{(PAYLOAD_W-4*W){1'b0}}, arc_ye[W-1:0], arc_xe[W-1:0], arc_ys[W-1:0],
+        : is_arc ? {{(PAYLOAD_W-ARC_W){1'b0}}, helix_negative, helix_magnitude, arc_count,
+                    arc_v, arc_u, arc_ye[W-1:0], arc_xe[W-1:0], arc_ys[W-1:0],
                     arc_xs[W-1:0]}
         : {{(PAYLOAD_W-NA*W){1'b0}}, line_delta};
-    wire [FLAGS_W-1:0] in_flags = {is_output, bad_profile, is_profile, is_nop, bad_fit,
+    wire [FLAGS_W-1:0] in_flags = {bad_helix, is_output, bad_profile, is_profile, is_nop,
+                                   bad_fit,
                                    bad_opcode,
                                    cmd_cont, is_line, is_arc_cw, is_arc};
     wire [ENTRY_W-1:0] in_entry = {in_payload, in_flags};
@@ -403,6 +450,7 @@ module halfpoint_core #(
     wire                 head_profile = head_flags_q[7];
     wire                 head_bad_profile = head_flags_q[8];
     wire                 head_output  = head_flags_q[9];
+    wire                 head_bad_helix = head_flags_q[10];
     wire [PAYLOAD_W-1:0] head_payload = head[ENTRY_W-1:FLAGS_W];
     wire [FLAGS_W-1:0]   unused_head_flags = head[FLAGS_W-1:0];
 
@@ -415,7 +463,8 @@ module halfpoint_core #(
     reg  [PROFILE_W-1:0] profile_q;
     reg                  profile_valid_q, profile_arc_q;
     wire        head_ok = (count_q != {(INDEX_W+1){1'b0}}) && !in_flight_q && !flush;
-    wire        head_bad = head_bad_opcode || head_bad_fit || head_bad_profile;
+    wire        head_bad = head_bad_opcode || head_bad_fit || head_bad_profile ||
+                           head_bad_helix;
     wire        head_motion = (head_arc || (head_line && !head_nop)) && !head_bad;
     wire        profile_mismatch = !profile_valid_q || (head_arc != profile_arc_q);
     wire        profile_load = head_ok && head_profile && !head_bad;
@@ -517,6 +566,33 @@ module halfpoint_core #(
         .nx_dir    (line_next_dir)
     );
 
+    // the arc's moves on the core's axes (plane and helix)
+    wire [NA-1:0] helix_step, helix_dir;
+    wire          helix_count_error;
+    halfpoint_helix #(
+        .NA (NA),
+        .W  (W)
+    ) u_helix (
+        .clk             (clk),
+        .rst             (rst),
+        .flush           (flush),
+        .take            (arc_take),
+        .take_u          (head_payload[4*W +: 3]),
+        .take_v          (head_payload[4*W+3 +: 3]),
+        .take_count      (head_payload[4*W+6 +: 32]),
+        .take_magnitude0 (head_payload[4*W+38 +: W]),
+        .take_magnitude1 (head_payload[5*W+38 +: W]),
+        .take_negative   (head_payload[6*W+38 +: 2]),
+        .load            (arc_loading),
+        .move            (move_room && arc_run),
+        .last            (arc_ending),
+        .arc_step        (arc_next_step),
+        .arc_dir         (arc_next_dir),
+        .step            (helix_step),
+        .dir             (helix_dir),
+        .count_error     (helix_count_error)
+    );
+
     wire [PWM_BITS:0] unused_duty;
     wire unused_ok = &{1'b0, unused_head_flags, unused_duty, unused_arc_move,
                        unused_arc_step_x,
@@ -579,8 +655,8 @@ module halfpoint_core #(
     assign move_room = (move_count_q != MOVE_FULL);
 
     wire          produce = move_room && (arc_run || line_run);
-    wire [NA-1:0] produce_step = arc_run ? {{(NA-2){1'b0}}, arc_next_step} : line_next_step;
-    wire [NA-1:0] produce_dir  = arc_run ? {{(NA-2){1'b0}}, arc_next_dir} : line_next_dir;
+    wire [NA-1:0] produce_step = arc_run ? helix_step : line_next_step;
+    wire [NA-1:0] produce_dir  = arc_run ? helix_dir : line_next_dir;
     // cost class: 0 axis move, 1 diagonal arc move, 2 line iteration
     wire [1:0]    produce_class = arc_run ? {1'b0, arc_next_diagonal} : 2'd2;
     wire          produce_last = arc_run ? arc_ending : line_ending;
@@ -861,6 +937,7 @@ module halfpoint_core #(
                                : `HALFPOINT_E_ARC_END;
     wire [CODE_W-1:0] dispatch_code = head_bad_opcode ? `HALFPOINT_E_OPCODE
                                     : head_bad_fit ? `HALFPOINT_E_FIELD
+                                    : head_bad_helix ? `HALFPOINT_E_HELIX
                                     : head_bad_profile ? `HALFPOINT_E_PROFILE_FIELD
                                     : `HALFPOINT_E_PROFILE;
 
@@ -872,9 +949,13 @@ module halfpoint_core #(
             underrun <= 1'b0;
         end else begin
             move <= go;
-            err  <= !flush && (dispatch_error || arc_reject || line_reject);
+            err  <= !flush && (dispatch_error || arc_reject || line_reject ||
+                               helix_count_error);
             if (!flush) begin
-                if (dispatch_error) begin
+                // an arc's move count error wins over a reject at the same edge
+                if (helix_count_error) begin
+                    err_code <= `HALFPOINT_E_HELIX_COUNT;
+                end else if (dispatch_error) begin
                     err_code <= dispatch_code;
                 end else if (arc_reject) begin
                     err_code <= arc_code;

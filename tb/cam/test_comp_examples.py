@@ -10,7 +10,6 @@ from pathlib import Path
 
 import pytest
 
-from halfpoint.cam.gcode import GcodeError
 from halfpoint.cam.run import run_program
 
 EX = Path(__file__).resolve().parents[2] / "examples"
@@ -24,19 +23,10 @@ def test_the_examples_are_found():
     assert {p.name for p in PROGRAMS} >= set(RADIUS) | {"bolt_circle.ngc"}
 
 
-# examples with helical arcs: refused (naming the line) until helices run in hardware
-# (issue 14, item 2), never flattened
-HELICAL = {"cam_style.ngc": 27}
-
-
 @pytest.mark.parametrize("path", PROGRAMS, ids=lambda p: p.name)
 def test_example_runs_without_tool_options(path):
     # a 10 um lattice keeps the core model's run short; the tool choice is what is tested
-    if path.name in HELICAL:
-        with pytest.raises(GcodeError, match="helical arc") as err:
-            run_program(str(path), blu=(0.01,) * 3)
-        assert err.value.lineno == HELICAL[path.name]
-        return
+    # (cam_style.ngc's helical bore runs in hardware: issue 14, item 2)
     res = run_program(str(path), blu=(0.01,) * 3)
     assert res.lattice, "the core made no move"
     radii = {m.radius for m in res.programmed if m.comp != "off"}

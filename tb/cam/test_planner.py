@@ -469,8 +469,9 @@ def test_bad_input_names_the_line():
         plan([line((0, 0, 0), (1, 0, 0), f=0.0, n=3)], m)
     with pytest.raises(GcodeError, match="line 4: arc radius is zero"):
         plan([arc((1, 1, 0), (2, 2, 0), (1.0, 1.0), cw=True, n=4)], m)
-    with pytest.raises(GcodeError, match="line 5: helical arcs"):
-        plan([arc((1, 0, 0), (0, 1, 1), (0.0, 0.0), cw=False, n=5)], m)
+    # a helix is planned (issue 14, item 2), along its 3-D path
+    helix = plan([arc((1, 0, 0), (0, 1, 1), (0.0, 0.0), cw=False, n=5)], m)[0]
+    assert helix.length == pytest.approx(math.hypot(math.pi / 2, 1))
     with pytest.raises(TypeError):
         plan(["G1 X1"], m)
 

@@ -52,8 +52,8 @@ def test_quantise_range_and_plane_errors_name_the_line():
     with pytest.raises(GcodeError, match="line 2: end point outside the core's 32-bit range"):
         quantise(prog.moves, (1e-6,) * 3)
     prog = parse("F100\nG18 G2 X2 Z0 I1 K0\nM2")
-    with pytest.raises(GcodeError, match="line 2: the core interpolates arcs in the XY plane"):
-        quantise(prog.moves)
+    with pytest.raises(GcodeError, match="line 2: an arc in G18 needs axes Z and X to share"):
+        quantise(prog.moves, (0.001, 0.001, 0.002))
 
 
 @pytest.mark.parametrize("prog, radius, machine", [

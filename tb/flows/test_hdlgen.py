@@ -72,6 +72,10 @@ def encode_from_header(m: dict[str, str], opcode: int, cont: bool,
             key = name[len("profile_"):].upper()
             cmd = put(cmd, number(m[p + f"CMD_PROFILE_{key}_LSB"]),
                       number(m[p + f"CMD_PROFILE_{key}_WIDTH"]), value)
+        elif name.startswith("HELIX"):
+            k = int(name[5:])
+            lsb = number(m[p + "CMD_ARC_HELIX0_LSB"]) + k * number(m[p + "CMD_ARC_HELIX_STRIDE"])
+            cmd = put(cmd, lsb, number(m[p + "CMD_ARC_HELIX0_WIDTH"]), value)
         elif name.startswith("delta"):
             k = int(name[5:])
             lsb = number(m[p + "CMD_DELTA_LSB"]) + k * number(m[p + "CMD_DELTA_STRIDE"])
@@ -107,9 +111,15 @@ def test_header_describes_the_encoder():
         assert line & number(m[p + "CMD_RESERVED_LINE"]) == 0
         i, j, x, y = (rng.randrange(-(1 << 31), 1 << 31) for _ in range(4))
         cw = rng.random() < 0.5
-        arc = enc.encode_arc(cw, i, j, x, y, cont=cont)
+        plane = (rng.randrange(8), rng.randrange(8))
+        count = rng.randrange(1 << 32)
+        helix = [rng.randrange(-(1 << 31), 1 << 31) for _ in range(enc.HELIX_SLOTS)]
+        arc = enc.encode_arc(cw, i, j, x, y, cont=cont, plane=plane, count=count, helix=helix)
         op = enc.OP_ARC_CW if cw else enc.OP_ARC_CCW
-        assert encode_from_header(m, op, cont, {"I": i, "J": j, "X": x, "Y": y}) == arc
+        arc_fields = {"I": i, "J": j, "X": x, "Y": y, "U_AXIS": plane[0], "V_AXIS": plane[1],
+                      "COUNT": count, **{f"HELIX{k}": h for k, h in enumerate(helix)}}
+        assert number(m[p + "HELIX_SLOTS"]) == enc.HELIX_SLOTS
+        assert encode_from_header(m, op, cont, arc_fields) == arc
         assert arc & number(m[p + "CMD_RESERVED_ARC"]) == 0
         values = [rng.randrange(1 << width) for _, _, width in enc.PROFILE_FIELDS]
         profile = enc.encode_profile(*values)
@@ -119,7 +129,10 @@ def test_header_describes_the_encoder():
     # every bit outside the fields is reserved: all ones in every field leaves none
     ones_line = encode_from_header(m, 0xF, True, {f"delta{k}": -1 for k in range(enc.MAX_AXES)})
     assert ones_line | number(m[p + "CMD_RESERVED_LINE"]) == full
-    ones_arc = encode_from_header(m, 0xF, True, {"I": -1, "J": -1, "X": -1, "Y": -1})
+    ones_arc = encode_from_header(m, 0xF, True, {"I": -1, "J": -1, "X": -1, "Y": -1,
+                                                 "U_AXIS": -1, "V_AXIS": -1, "COUNT": -1,
+                                                 **{f"HELIX{k}": -1
+                                                    for k in range(enc.HELIX_SLOTS)}})
     assert ones_arc | number(m[p + "CMD_RESERVED_ARC"]) == full
     ones_profile = encode_from_header(m, 0xF, False, {f"profile_{name}": -1
                                                       for name, _, _ in enc.PROFILE_FIELDS})
@@ -141,7 +154,10 @@ def test_core_has_no_literal_layout():
                  "E_ARC_RADIUS", "E_ARC_RANGE", "E_ARC_END", "E_PROFILE", "E_PROFILE_FIELD",
                  "CMD_RESERVED_LINE", "CMD_RESERVED_ARC", "CMD_RESERVED_PROFILE",
                  "CMD_PROFILE_V_CRUISE_LSB", "CMD_PROFILE_D_STOP_LSB", "CMD_DELTA_LSB",
-                 "CMD_ARC_I_LSB", "FLAG_CONT_BIT", "PROFILE_DISTANCE_EXTRA"):
+                 "CMD_ARC_I_LSB", "FLAG_CONT_BIT", "PROFILE_DISTANCE_EXTRA",
+                 "CMD_ARC_U_AXIS_LSB", "CMD_ARC_V_AXIS_LSB", "CMD_ARC_COUNT_LSB",
+                 "CMD_ARC_HELIX0_LSB", "CMD_ARC_HELIX_STRIDE", "HELIX_SLOTS", "E_HELIX",
+                 "E_HELIX_COUNT"):
         assert f"`HALFPOINT_{name}" in code, f"the core does not use HALFPOINT_{name}"
 
 

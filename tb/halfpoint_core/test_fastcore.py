@@ -2,7 +2,8 @@
 """The event-skipping core model (``spec.fastcore.run_fast``) against the clock-by-clock
 model (``spec.core``): every move's cycle and position, the error codes, the final dry
 and underrun flags and the run's length equal, on random programs (arcs and lines,
-short and long segments, slow and fast planned speeds, random accelerations and
+helices and arcs in the G18/G19 planes, some with a wrong move count, short and long
+segments, slow and fast planned speeds, random accelerations and
 junctions, random STEP/DIR timing, DIV small and large, hold intervals, override,
 rejected commands); the closed forms of the STEP/DIR generators against the generator
 clocked; and the skipping must actually skip on slow programs."""
@@ -16,7 +17,7 @@ import pytest
 from halfpoint.spec import encoding as enc
 from halfpoint.spec import fastcore as fc
 from halfpoint.spec.core import CoreModel, run_program
-from halfpoint.spec.program import profiled, random_arc, random_line
+from halfpoint.spec.program import profiled, random_arc, random_helix, random_line
 from halfpoint.spec.stepgen import StepCfg, StepGenModel, StepInputs
 
 ONE = 1 << 32                   # a speed field of 1 BLU per clock
@@ -36,8 +37,11 @@ def random_program(rng, axes, width, div, count, slow):
     cmds = []
     for _ in range(count):
         short = rng.random() < 0.4
-        if rng.random() < 0.5:
+        if rng.random() < 0.25:
             cmds.append(random_arc(rng, True, 1, 3) if short else random_arc(rng, True, 2, 12))
+        elif rng.random() < 1 / 3:      # helices and arcs in any plane, now and then a wrong
+            miss = rng.choice((-1, 1)) if rng.random() < 0.1 else 0     # count
+            cmds.append(random_helix(rng, axes, True, 1, 3 if short else 12, miss))
         else:
             cmds.append(random_line(rng, axes, True, 2 if short else 12))
         if rng.random() < 0.05:         # an unknown opcode: rejected (E_OPCODE)

@@ -117,7 +117,7 @@ class Proxy:
                 if frame[0] == link.F_COMMAND:
                     cmd = int.from_bytes(frame[1:-1], "little")
                     if self.commands == self.rewrite:
-                        cmd |= 1 << 32              # word 1: reserved, the core rejects it
+                        cmd |= 1 << 12      # word 0 bit 12: reserved in every command
                         frame = bytearray(link.command_frame(cmd))
                         self.rewritten = cmd
                     self.commands += 1

@@ -58,9 +58,9 @@ Ranges the machine file accepts include clocks of 10-200 MHz, BLUs of
 on its own: a fast axis on a fine BLU still needs a STEP rate the clock and
 timing can give).
 
-``check_program(machine, moves)`` checks a machine against a program: X and
-Y must share the BLU when the program has arcs (arcs are circles on the
-lattice).
+``check_program(machine, moves)`` checks a machine against a program: the two
+axes of every arc's plane (X Y in G17, Z X in G18, Y Z in G19) must share the
+BLU (arcs are circles on the lattice).
 """
 
 from __future__ import annotations
@@ -322,15 +322,21 @@ def load_default() -> Machine:
 
 
 def check_program(machine: Machine, moves) -> None:
-    """Can ``machine`` run ``moves`` (``halfpoint.cam.gcode.Move``)?  X and Y must share
-    the BLU when the program has arcs: arcs are circles on the lattice."""
-    bx, by = machine.axis("x").blu_mm, machine.axis("y").blu_mm
-    if bx == by:
-        return
+    """Can ``machine`` run ``moves`` (``halfpoint.cam.gcode.Move``)?  The two axes of
+    every arc's plane (X Y in G17, Z X in G18, Y Z in G19) must share the BLU: arcs
+    are circles on the lattice."""
+    from .gcode import PLANE_AXES
+
+    names = AXES
     for m in moves:
-        if getattr(m, "kind", None) == "arc":
+        if getattr(m, "kind", None) != "arc":
+            continue
+        a0, a1, _ = PLANE_AXES[m.plane]
+        b0, b1 = machine.axes[a0].blu_mm, machine.axes[a1].blu_mm
+        if b0 != b1:
             raise MachineError(
-                "axis.y.blu_mm",
-                f"{by:g} differs from axis.x.blu_mm {bx:g}, and the program has arcs "
-                f"(first on line {m.lineno}): arcs need X and Y to share the BLU",
+                f"axis.{names[a1]}.blu_mm",
+                f"{b1:g} differs from axis.{names[a0]}.blu_mm {b0:g}, and the program has "
+                f"arcs in G{m.plane} (first on line {m.lineno}): an arc needs the two axes "
+                f"of its plane to share the BLU",
                 machine.source)

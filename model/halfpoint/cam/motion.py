@@ -64,8 +64,7 @@ from ..spec.program import segment_moves
 from ..spec.stepgen import StepCfg
 from .gcode import GcodeError, Move
 from .machine import Machine, MachineError
-from .planner import Dwell, OutputChange, Segment, plan, projected_limit
-from .summary import _plannable
+from .planner import Dwell, OutputChange, Segment, plan, plane_share, projected_limit
 
 AXES = 3
 WIDTH = 32
@@ -131,9 +130,7 @@ def build_motion(q, items, machine: Machine, width: int = WIDTH) -> MotionPlan:
         raise MachineError("clock_hz", str(exc), machine.source) from None
     blu = machine.blu[:AXES]
     bx = blu[0]
-    # helices are planned as their flat arc at the feed that keeps their time (as the
-    # summary does; the planner does not plan helices yet)
-    planned = plan([it if isinstance(it, Dwell) else _plannable(it) for it in items], machine)
+    planned = plan(items, machine)
     seg_of = {id(it): sg for it, sg in zip(items, planned) if isinstance(sg, Segment)}
     order = {}                  # id(move) -> its index among the moves
     dwells = []                 # (index of the first move after it, Dwell)
@@ -178,7 +175,7 @@ def build_motion(q, items, machine: Machine, width: int = WIDTH) -> MotionPlan:
             lengths.append(iters * lc)
             lcs.append(lc)
         elif dec[0] == "arc":
-            moves = segment_moves(dec, width)
+            moves = segment_moves(dec, width, AXES)
             if moves is None:
                 raise GcodeError(m.lineno, "the core would reject this arc command")
             diag = sum(1 for c in moves[1] if c == pf.CLASS_DIAG)
@@ -186,7 +183,8 @@ def build_motion(q, items, machine: Machine, width: int = WIDTH) -> MotionPlan:
             counts.append(len(moves[1]))
             lengths.append(diag * pf.COST_DIAG + (len(moves[1]) - diag) * pf.COST_AXIS)
             lcs.append(0)
-            vc, ac = seg.v_cruise, seg.accel
+            # the core paces an arc in its plane: a helix's speeds times its plane share
+            vc, ac = seg.v_cruise * plane_share(seg), seg.accel * plane_share(seg)
             if vc <= 0 or ac <= 0:
                 raise GcodeError(m.lineno, "the planner gave this arc no speed")
         else:
@@ -202,7 +200,8 @@ def build_motion(q, items, machine: Machine, width: int = WIDTH) -> MotionPlan:
         if k == n - 1 or pauses_before[k + 1]:
             exit_mm.append(0.0)
         elif last_of_move[k]:
-            exit_mm.append(seg_of[id(m)].v_exit)      # the planner's junction speed
+            sg = seg_of[id(m)]                          # the planner's junction speed
+            exit_mm.append(sg.v_exit * (plane_share(sg) if kinds[k] == "arc" else 1.0))
         elif first_of_move[k] and kinds[k] == "line":
             # a correcting line at the start of its move: part of the junction before it
             exit_mm.append(seg_of[id(q.src[k - 1])].v_exit if k > 0 and

@@ -24,6 +24,14 @@ Rules:
   |a_t t_k + a_n n_k| <= a_t T_k + a_n N_k, no axis exceeds its limit anywhere
   on the arc.  The centripetal part caps the speed: v^2 / R <= (1 - share)
   min_k amax_k / N_k.
+* **Helices** (an arc whose normal axis moves, G17/G18/G19): planned along the
+  3-D path, length sqrt((R sweep)^2 + rise^2).  The tangent's in-plane part is
+  k = R |sweep| / length of the arc's, its normal-axis part rise / length, so
+  every axis's speed and acceleration limits apply, the normal axis's too; the
+  centripetal limit acts on the in-plane speed k v: (k v)^2 / R <= (1 - share)
+  min_k amax_k / N_k.  The core paces an arc in its plane's units, so the host
+  hands it the helix's speeds times k (``plane_share``): the 3-D path speed is
+  the planned one.
 * **Junctions** by junction deviation, as grbl does it (gnea/grbl
   ``grbl/planner.c``, ``plan_buffer_line``; Klipper ``klippy/toolhead.py``,
   ``Move.calc_junction``, the same formula): with cos(theta) = -u_in . u_out
@@ -223,9 +231,7 @@ def _segment(m: Move, machine: Machine) -> Segment:
     if m.plane not in PLANE_AXES or m.center is None:
         raise GcodeError(m.lineno, "arc without a centre or in an unknown plane")
     a0, a1, ap = PLANE_AXES[m.plane]
-    if abs(m.end[ap] - m.start[ap]) > 1e-12:
-        raise GcodeError(m.lineno, "helical arcs are not supported (the axis normal to the "
-                                   "plane moves)")
+    rise = m.end[ap] - m.start[ap]          # a helix: the normal axis moves with the arc
     cx, cy = m.center
     sx, sy = m.start[a0] - cx, m.start[a1] - cy
     ex, ey = m.end[a0] - cx, m.end[a1] - cy
@@ -241,26 +247,33 @@ def _segment(m: Move, machine: Machine) -> Segment:
             sweep = (_TWO_PI - sweep) % _TWO_PI
     if m.cw:
         sweep = -sweep
-    length = radius * abs(sweep)
+    flat = radius * abs(sweep)
+    length = math.hypot(flat, rise)
+    # along a helix the plane takes the share k of the path, the normal axis h
+    k, h = (flat / length, abs(rise) / length) if length > 0.0 else (1.0, 0.0)
 
     def tangent(phi):
         t = [0.0, 0.0, 0.0]
         sgn = -1.0 if m.cw else 1.0
-        t[a0], t[a1] = -sgn * math.sin(phi), sgn * math.cos(phi)
+        t[a0], t[a1] = -sgn * k * math.sin(phi), sgn * k * math.cos(phi)
+        t[ap] = math.copysign(h, rise)
         return tuple(t)
 
     dir_start, dir_end = tangent(phi0), tangent(phi0 + sweep)
     if length == 0.0:
         return Segment(m, 0.0, feed, 0.0, dir_start, dir_end, radius, 0.0)
     lo, hi = sorted((phi0, phi0 + sweep))
-    # tangent (-sin, cos) and normal (-cos, -sin) in the plane, up to signs
+    # tangent (-sin, cos) and normal (-cos, -sin) in the plane, up to signs; the
+    # tangent's in-plane part scaled by k, its normal-axis part h
     tw = [0.0, 0.0, 0.0]
     nw = [0.0, 0.0, 0.0]
-    tw[a0], tw[a1] = _max_abs_sin(lo, hi), _max_abs_cos(lo, hi)
-    nw[a0], nw[a1] = tw[a1], tw[a0]
+    tw[a0], tw[a1] = k * _max_abs_sin(lo, hi), k * _max_abs_cos(lo, hi)
+    tw[ap] = h
+    nw[a0], nw[a1] = _max_abs_cos(lo, hi), _max_abs_sin(lo, hi)
     accel = ARC_TANGENTIAL_SHARE * _projected(amax, tw)
+    # centripetal: the in-plane speed k v on radius R
     a_normal = (1.0 - ARC_TANGENTIAL_SHARE) * _projected(amax, nw)
-    v_limit = min(feed, _projected(vmax, tw), math.sqrt(a_normal * radius))
+    v_limit = min(feed, _projected(vmax, tw), math.sqrt(a_normal * radius) / k)
     return Segment(m, length, v_limit, accel, dir_start, dir_end, radius, sweep)
 
 
@@ -464,27 +477,41 @@ def lattice_arc_length(radius: float, phi0: float, sweep: float) -> float:
     return radius * total
 
 
+def plane_share(seg: Segment) -> float:
+    """The share of an arc's path in its plane: R |sweep| / length (1 for a flat arc,
+    less for a helix).  The core paces an arc in its plane's units, so a helix's
+    speeds and acceleration go to the core times this: the 3-D path speed is then
+    the planned one."""
+    if seg.kind != "arc" or seg.length == 0.0:
+        return 1.0
+    return seg.radius * abs(seg.sweep) / seg.length
+
+
 def to_core(seg: Segment, machine: Machine) -> CoreSegment:
     """``seg`` in path units per clock and per clock squared (see ``CoreSegment``)."""
     clock = float(machine.clock_hz)
+    scale = 1.0
     if seg.kind == "arc":
-        bx, by = machine.axis("x").blu_mm, machine.axis("y").blu_mm
-        if bx != by:
-            raise MachineError("axis.y.blu_mm", f"{by:g} differs from axis.x.blu_mm {bx:g}; "
-                               f"the arc on line {seg.lineno} needs X and Y to share the BLU",
-                               machine.source)
-        unit = bx
         m = seg.move
         a0, a1, _ = PLANE_AXES[m.plane]
+        b0, b1 = machine.axes[a0].blu_mm, machine.axes[a1].blu_mm
+        if b0 != b1:
+            names = "xyz"
+            raise MachineError(f"axis.{names[a1]}.blu_mm",
+                               f"{b1:g} differs from axis.{names[a0]}.blu_mm {b0:g}; the arc "
+                               f"on line {seg.lineno} needs the two axes of its plane to "
+                               f"share the BLU", machine.source)
+        unit = b0
         phi0 = math.atan2(m.start[a1] - m.center[1], m.start[a0] - m.center[0])
         units = lattice_arc_length(seg.radius / unit, phi0, seg.sweep)
+        scale = plane_share(seg)
     else:
         n = line_iterations(seg.move.start, seg.move.end, machine.blu)
         if n == 0:
             return CoreSegment(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
         unit = seg.length / n
         units = float(n)
-    per_clock = 1.0 / (unit * clock)
+    per_clock = scale / (unit * clock)
     v0, vc, v1 = seg.v_entry * per_clock, seg.v_cruise * per_clock, seg.v_exit * per_clock
     accel = seg.accel * per_clock / clock
     if accel > 0.0:

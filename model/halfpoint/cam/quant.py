@@ -1,8 +1,8 @@
 # SPDX-License-Identifier: Apache-2.0
 """Quantisation: moves in mm -> motion-core commands on the BLU lattice.
 
-* One BLU per axis (default 0.001 mm); X and Y must share it (arcs are
-  circles on the lattice).
+* One BLU per axis (default 0.001 mm); the two axes of an arc's plane must
+  share it (arcs are circles on the lattice).
 * Every lattice point the core visits lies within 1 BLU of the programmed
   block its command comes from, however many blocks follow each other (the
   bound; tb/cam/test_quant_bound.py checks it on the core model's positions).
@@ -23,6 +23,15 @@
   walked and measured (the walk that predicts the core's stop), and a piece
   with a point beyond 1 BLU is halved.  About 2.3 commands per arc on chains
   of off-lattice semicircles of 20-120 BLU.
+* Arcs in G18 (Z X) and G19 (Y Z) are placed the same way in their plane's
+  coordinates (the plane's two axes must share the BLU); the command names the
+  plane's axes and the arc's exact move count (the walk's).  A helix (the
+  normal axis moving with the arc) gives each arc piece the normal-axis delta
+  that takes it to where the programmed helix is at the piece's end (the
+  nearest lattice value, the programmed end exactly at the last piece); the
+  core steps it in proportion to the piece's moves.  Correcting lines keep the
+  normal axis still; a piece whose normal axis would move more BLU than the
+  arc makes moves is an error naming the line (helix too steep for the core).
 * Every point and centre must fit the core's signed coordinate width; the
   error names the line.
 """
@@ -30,13 +39,13 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from ..spec import encoding as enc
 from ..spec.arc import ArcRun, lattice_point_near, validate
 from ..spec.line import line_steps
 from ..spec.rules import field_range, fits
-from .gcode import GcodeError, Move
+from .gcode import PLANE_AXES, GcodeError, Move
 from .geom import Arc
 
 DEFAULT_BLU = 0.001
@@ -241,10 +250,58 @@ def _line_cmd(q: Quantised, m: Move, line_head: int, cur, to, correction: bool):
     return [to[0], to[1], cur[2]]
 
 
-def _arc_cmds(q: Quantised, m: Move, b: float, cur, width: int, rate_q: int, line_head: int):
-    """The commands of one programmed arc (see _Arcs); returns the position after them."""
+def _plane_line(q: Quantised, m: Move, plane, cur, to, correction: bool):
+    """A line command from ``cur`` to ``to`` (both (u, v, n): the plane's first,
+    second and normal axis, ``plane`` = PLANE_AXES of the arc); returns ``to``."""
+    deltas = [0, 0, 0]
+    for axis, a, b in zip(plane, cur, to):
+        deltas[axis] = b - a
+    if not any(deltas):
+        return list(cur)
+    q.cmds.append(enc.encode_line(deltas))
+    q.moves_per_cmd.append(max(abs(d) for d in deltas))
+    q.src.append(m)
+    q.corrections += correction
+    return list(to)
+
+
+class _Helix:
+    """The normal axis of a helical arc: where it should be at a fraction t of the
+    sweep (BLU, nearest lattice value; exactly the programmed end at t = 1)."""
+
+    def __init__(self, n0: float, n1: float):
+        self.n0, self.n1 = n0, n1
+        self.end = round(n1)
+
+    @classmethod
+    def of(cls, m: Move, plane, blu) -> "_Helix":
+        ap = plane[2]
+        return cls(m.start[ap] / blu[ap], m.end[ap] / blu[ap])
+
+    def at(self, t: float) -> int:
+        return self.end if t >= 1.0 else round(self.n0 + (self.n1 - self.n0) * t)
+
+
+def _view(m: Move, plane) -> Move:
+    """The arc in its plane's coordinates (u, v, n) (``Move.center`` already is)."""
+    def perm(p):
+        return tuple(p[a] for a in plane)
+    return replace(m, start=perm(m.start), end=perm(m.end), plane=17)
+
+
+def _arc_cmds(q: Quantised, m: Move, b: float, cur, width: int, rate_q: int, line_head: int,
+              plane=(0, 1, 2), helix: _Helix | None = None, src: Move | None = None):
+    """The commands of one programmed arc (see _Arcs), ``m`` and ``cur`` in the
+    plane's coordinates (u, v, n) (``_view``; ``src`` the programmed move the
+    commands come from, default ``m``); returns the position after them (u, v, n).
+    A helix's normal axis moves with each arc piece to where the programmed helix
+    is at the piece's end (``_Helix``), stepped by the core in proportion to the
+    piece's moves; correcting lines keep it still."""
     A = _Arcs(m, b)
     cw = int(m.cw)
+    src = src or m
+    if helix is None:
+        helix = _Helix(cur[2], cur[2])
     stack = [(0.0, 1.0)]
     while stack:
         t0, t1 = stack.pop()
@@ -285,41 +342,53 @@ def _arc_cmds(q: Quantised, m: Move, b: float, cur, width: int, rate_q: int, lin
             if length > MIN_SPLIT:
                 stack += [(mid, t1), (t0, mid)]
                 continue
-            cur = _fallback_lines(q, m, A, t0, t1, cur, line_head)
+            cur = _fallback_lines(q, src, A, t0, t1, cur, plane, helix)
             continue
         A.worst = max(A.worst, worst)
         # a short correcting line onto the chosen start (a few BLU at most)
-        cur = _line_cmd(q, m, line_head, cur, s, True)
+        cur = _plane_line(q, src, plane, cur, (s[0], s[1], cur[2]), True)
+        dn = helix.at(t1) - cur[2]
+        if abs(dn) > n:
+            raise GcodeError(m.lineno, f"helix too steep for the core: axis "
+                                       f"{'XYZ'[plane[2]]} moves {abs(dn)} BLU over {n} arc "
+                                       f"moves (at most one step per move)")
+        if dn and n >= 1 << 32:
+            raise GcodeError(m.lineno, "helix too long for the core: its arc makes more moves "
+                                       "than the 32-bit count holds")
+        if not fits(cur[2] + dn, width, LATTICE_MARGIN):
+            raise GcodeError(m.lineno, f"helix leaves the core's {width}-bit range at this BLU")
         q.cmds.append(enc.encode_arc(cw, c[0] - cur[0], c[1] - cur[1],
-                                     c[0] + xe - cur[0], c[1] + ye - cur[1]))
+                                     c[0] + xe - cur[0], c[1] + ye - cur[1],
+                                     plane=plane[:2], count=n if n < 1 << 32 else 0,
+                                     helix=(dn,) if dn else ()))
         q.moves_per_cmd.append(n)
-        q.src.append(m)
+        q.src.append(src)
         q.arcs += 1
-        cur = [stop_x, stop_y, cur[2]]
+        cur = [stop_x, stop_y, cur[2] + dn]
         if not all(fits(v, width, LATTICE_MARGIN) for v in cur):
             raise GcodeError(m.lineno, f"arc leaves the core's {width}-bit range at this BLU")
     return cur
 
 
-def _fallback_lines(q: Quantised, m: Move, A: _Arcs, t0: float, t1: float, cur, line_head):
+def _fallback_lines(q: Quantised, m: Move, A: _Arcs, t0: float, t1: float, cur, plane,
+                    helix: _Helix):
     """A short piece the arc unit cannot hold within BOUND: single-step lines
     through the lattice points nearest the programmed arc (each within
-    0.71 BLU of it)."""
+    0.71 BLU of it; a helix's normal axis where the helix is there)."""
     n = max(2, math.ceil(abs(A.sweep) * (t1 - t0) * A.r / 0.4))
     for k in range(n + 1):
-        a = A.angle(t0 + (t1 - t0) * k / n)
+        t = t0 + (t1 - t0) * k / n
+        a = A.angle(t)
         to = (round(A.pcx + A.r * math.cos(a)), round(A.pcy + A.r * math.sin(a)))
         if k == n and t1 == 1.0 and not A.full:
             to = (round(A.pe[0]), round(A.pe[1]))
-        cur = _line_cmd(q, m, line_head, cur, to, False)
+        cur = _plane_line(q, m, plane, cur, (to[0], to[1], helix.at(t)), False)
         q.fallback += 1
     return cur
 
 
 def quantise(moves: list[Move], blu=(DEFAULT_BLU,) * 3, width: int = 32,
              rate: float = 2.0) -> Quantised:
-    if abs(blu[0] - blu[1]) > 1e-15:
-        raise ValueError("X and Y must have the same BLU (arcs are circles on the lattice)")
     if min(blu) <= 0:
         raise ValueError("a BLU must be positive")
     q = Quantised()
@@ -335,17 +404,23 @@ def quantise(moves: list[Move], blu=(DEFAULT_BLU,) * 3, width: int = 32,
     for m in moves:
         bound = LINE_BOUND
         if m.kind == "arc":
-            if m.plane != 17:
-                raise GcodeError(m.lineno, "the core interpolates arcs in the XY plane (G17) only")
-            if abs(m.end[2] - m.start[2]) > 1e-12:
-                # never flattened silently: the Z change would land on the next move
-                raise GcodeError(m.lineno, "helical arc: the core interpolates flat XY arcs only "
-                                           "(helices in hardware are issue 14, item 2)")
-            sag = _flat(m)
+            plane = PLANE_AXES[m.plane]
+            a0, a1, ap = plane
+            if abs(blu[a0] - blu[a1]) > 1e-15:
+                raise GcodeError(m.lineno, f"an arc in G{m.plane} needs axes {'XYZ'[a0]} and "
+                                           f"{'XYZ'[a1]} to share the BLU (blu_mm "
+                                           f"{blu[a0]:g} and {blu[a1]:g})")
+            flat_xy = m.plane == 17 and abs(m.end[2] - m.start[2]) <= 1e-12
+            sag = _flat(m) if flat_xy else None
             if sag is None or sag >= 0.25 * bx:
                 # the arc on the lattice is placed against the programmed absolute
-                # geometry, never against where the previous arc stopped (_Arcs)
-                cur = _arc_cmds(q, m, bx, cur, width, 0, line_head)
+                # geometry, never against where the previous arc stopped (_Arcs);
+                # G18/G19 arcs and helices in their plane's coordinates (u, v, n)
+                view = _view(m, plane)
+                at = _arc_cmds(q, view, blu[a0], [cur[a] for a in plane], width, 0,
+                               line_head, plane, _Helix.of(m, plane, blu), m)
+                for a, value in zip(plane, at):
+                    cur[a] = value
                 continue
             # an arc whose sagitta is under a quarter BLU is its chord on the
             # lattice: run it as a line (CAM corner rounds, short joins), held

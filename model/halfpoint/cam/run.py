@@ -28,7 +28,7 @@ from ..spec import profile as pf
 from .comp import compensate, to_gcode
 from .gcode import Coolant, Spindle
 from .gcode import Dwell as GcodeDwell
-from .gcode import Move, load_tool_table, parse
+from .gcode import PLANE_AXES, Move, load_tool_table, parse
 from .geom import Arc, Line
 from .machine import Machine, check_program, load_default
 from .motion import Execution, MotionPlan, build_motion, core_config, max_clocks_for, run_model
@@ -185,9 +185,13 @@ def plan_items_compensated(prog, moves, machine: Machine | None = None) -> list:
 
 
 def _element(m: Move):
+    """The move as a plane element and the two axes of that plane: an arc in its own
+    plane (G17 X Y, G18 Z X, G19 Y Z), a line in XY."""
     if m.kind == "arc":
-        return Arc.from_points(m.center, m.start[:2], m.end[:2], m.cw)
-    return Line(m.start[:2], m.end[:2])
+        a0, a1, _ = PLANE_AXES[m.plane]
+        return (Arc.from_points(m.center, (m.start[a0], m.start[a1]), (m.end[a0], m.end[a1]),
+                                m.cw), (a0, a1))
+    return Line(m.start[:2], m.end[:2]), (0, 1)
 
 
 def run_program(path: str, execute=None, radius=None, tools_path=None, strict=False,
@@ -223,9 +227,9 @@ def run_program(path: str, execute=None, radius=None, tools_path=None, strict=Fa
     dev = 0.0
     k = 0
     for m, n in zip(q.src, q.moves_per_cmd):
-        el = _element(m)
+        el, (a0, a1) = _element(m)
         for p in trace[k:k + n]:
-            dev = max(dev, el.distance((p[0] * blu[0], p[1] * blu[1])))
+            dev = max(dev, el.distance((p[a0] * blu[a0], p[a1] * blu[a1])))
         k += n
     return RunResult(prog.moves, comp.moves, comp.warnings, trace, dev, tuple(blu),
                      prog.messages, tuple(prog.notes), q.corrections, machine, summary,
@@ -235,10 +239,11 @@ def run_program(path: str, execute=None, radius=None, tools_path=None, strict=Fa
 def _path_points(moves: list[Move], steps=64):
     xs, ys = [], []
     for m in moves:
-        el = _element(m)
+        el, (a0, a1) = _element(m)
         n = steps if m.kind == "arc" else 1
         for i in range(n + 1):
-            p = el.point(i / n)
+            p = list(m.start)
+            p[a0], p[a1] = el.point(i / n)
             xs.append(p[0])
             ys.append(p[1])
         xs.append(math.nan)

@@ -137,7 +137,7 @@ def segment_items(segs: list[Segment]) -> list[int]:
     lengths, lcs = [], []
     for sg in segs:
         dec = decode_for_core(sg.cmd, AXES, WIDTH)
-        steps, classes = segment_moves(dec, WIDTH)
+        steps, classes = segment_moves(dec, WIDTH, AXES)
         lc = line_cost(dec[1]) if dec[0] == "line" else 0
         prm = pf.ProfileParams(1, 0, 1, lc)
         lengths.append(sum(pf.move_cost(c, prm) for c in classes))

@@ -16,10 +16,6 @@ Both look at the programmed path in machine coordinates: arcs by their exact
 extent (the quadrant points they sweep), helices with their linear axis.  The
 path after cutter compensation lies up to the tool radius beside it, which is
 not counted here.
-
-The planner does not plan helical arcs yet (issue 14, item 2): for the time
-estimate a helix is planned as its arc in the plane at the feed that gives the
-same time along the helix (feed x arc length / helix length).
 """
 
 from __future__ import annotations
@@ -59,19 +55,6 @@ def move_box(m: Move) -> tuple[list[float], list[float]]:
     return lo, hi
 
 
-def _plannable(m: Move) -> Move:
-    """A helix as its flat arc at the feed that keeps its time (module docstring)."""
-    if m.kind != "arc":
-        return m
-    ap = PLANE_AXES[m.plane][2]
-    if m.start[ap] == m.end[ap]:
-        return m
-    end = list(m.end)
-    end[ap] = m.start[ap]
-    flat = replace(m, end=tuple(end))
-    return replace(flat, feed=m.feed * arc_length(flat) / arc_length(m))
-
-
 def plan_items(program) -> list:
     """The program's moves with its dwells (as ``planner.Dwell``) in program order, and a
     stop of 0 s at each spindle or coolant change (the core changes its outputs at rest:
@@ -85,7 +68,7 @@ def plan_items(program) -> list:
         while k < len(dwells) and dwells[k].before <= i:
             items.append(PlannerDwell(dwells[k].seconds, dwells[k].lineno))
             k += 1
-        items.append(_plannable(m))
+        items.append(m)
     items += [PlannerDwell(d.seconds, d.lineno) for d in dwells[k:]]
     return items
 

@@ -102,6 +102,18 @@ def defines(enc: ModuleType = encoding) -> list[Define]:
         args = [0, 0, 0, 0]
         args[n] = -1
         coords[name] = field_bits(enc.encode_arc(0, *args), arc0, f"arc {name}")
+    arc_fields = {}
+    for name, kwargs in (("U_AXIS", {"plane": (7, 0)}), ("V_AXIS", {"plane": (0, 7)}),
+                         ("COUNT", {"plane": (0, 0), "count": 0xFFFFFFFF}),
+                         *((f"HELIX{k}", {"plane": (0, 0),
+                                          "helix": tuple(-1 if n == k else 0
+                                                         for n in range(enc.HELIX_SLOTS))})
+                           for k in range(enc.HELIX_SLOTS))):
+        arc_fields[name] = field_bits(enc.encode_arc(0, 0, 0, 0, 0, **kwargs),
+                                      enc.encode_arc(0, 0, 0, 0, 0, plane=(0, 0)),
+                                      f"arc {name.lower()}")
+    helix_stride = (arc_fields["HELIX1"][0] - arc_fields["HELIX0"][0]
+                    if enc.HELIX_SLOTS > 1 else arc_fields["HELIX0"][1])
     cw = field_bits(enc.encode_arc(1, 0, 0, 0, 0), arc0, "arc direction")
     if cw[0] < op_lsb or cw[0] + cw[1] > op_lsb + op_width:
         raise ValueError("the arc's direction is not carried by the opcode")
@@ -135,7 +147,7 @@ def defines(enc: ModuleType = encoding) -> list[Define]:
     for d in deltas:
         line_used |= mask(*d)
     arc_used = common
-    for c in coords.values():
+    for c in (*coords.values(), *arc_fields.values()):
         arc_used |= mask(*c)
     profile_used = mask(op_lsb, op_width)
     for f in prof.values():
@@ -158,9 +170,10 @@ def defines(enc: ModuleType = encoding) -> list[Define]:
         Define("CMD_OPCODE_LSB", str(op_lsb), "opcode field"),
         Define("CMD_OPCODE_WIDTH", str(op_width), ""),
         Define("OP_LINE", sized(op_width, enc.OP_LINE), "straight line, every axis"),
-        Define("OP_ARC_CW", sized(op_width, enc.OP_ARC_CW), "arc in the XY plane, clockwise (G2)"),
+        Define("OP_ARC_CW", sized(op_width, enc.OP_ARC_CW),
+               "arc in the plane (u, v), clockwise (G2)"),
         Define("OP_ARC_CCW", sized(op_width, enc.OP_ARC_CCW),
-               "arc in the XY plane, counter-clockwise (G3)"),
+               "arc in the plane (u, v), counter-clockwise (G3)"),
         Define("FLAG_CONT_BIT", str(cont_lsb),
                "CONT: more segments of this program follow (for the underrun flag)"),
         Define("OP_PROFILE", sized(op_width, enc.OP_PROFILE),
@@ -178,6 +191,15 @@ def defines(enc: ModuleType = encoding) -> list[Define]:
     for name, (lsb, width) in coords.items():
         out += [Define(f"CMD_ARC_{name}_LSB", str(lsb), ""),
                 Define(f"CMD_ARC_{name}_WIDTH", str(width), "")]
+    out += [Define("", "", "arc: plane axes u, v (G17 0 1, G18 2 0, G19 1 2), "
+                   "move count N (0: none), helix deltas (signed)")]
+    for name in ("U_AXIS", "V_AXIS", "COUNT", "HELIX0"):
+        lsb, width = arc_fields[name]
+        out += [Define(f"CMD_ARC_{name}_LSB", str(lsb), ""),
+                Define(f"CMD_ARC_{name}_WIDTH", str(width), "")]
+    out += [Define("CMD_ARC_HELIX_STRIDE", str(helix_stride),
+                   "slot k's delta at CMD_ARC_HELIX0_LSB + k * CMD_ARC_HELIX_STRIDE"),
+            Define("HELIX_SLOTS", str(enc.HELIX_SLOTS), "helix slots of an arc command")]
     out += [Define("", "", "profile fields (unsigned; spec/profile.py gives their fixed point)")]
     for name, (lsb, width) in prof.items():
         out += [Define(f"CMD_PROFILE_{name.upper()}_LSB", str(lsb), ""),

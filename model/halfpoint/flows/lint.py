@@ -31,6 +31,7 @@ MAX_COLUMNS = 100
 TARGETS = {
     "halfpoint_arc": [{"W": 8}, {"W": 16}, {"W": 24}, {"W": 32}],
     "halfpoint_line": [{"NA": 1, "W": 8}, {"NA": 3, "W": 32}, {"NA": 6, "W": 16}],
+    "halfpoint_helix": [{"NA": 3, "W": 32}, {"NA": 2, "W": 8}, {"NA": 6, "W": 16}],
     "halfpoint_stepgen": [{"TW": 2}, {"TW": 16}],
     "halfpoint_outputs": [{"PWM_BITS": 4}, {"PWM_BITS": 5}, {"PWM_BITS": 10}, {"PWM_BITS": 16}],
     "halfpoint_refloop": [{"WR": 34, "FOLD": 0}, {"WR": 34, "FOLD": 1}],

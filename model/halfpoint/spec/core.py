@@ -3,7 +3,7 @@
 
 Data path, clock by clock (issue 13: the interpolators decoupled from the pacing):
 
-  AXI4-Stream commands -> queue (DEPTH) -> dispatcher -> arc unit (X, Y)  -+-> move queue
+  AXI4-Stream commands -> queue (DEPTH) -> dispatcher -> arc unit (u, v)  -+-> move queue
                                                       -> line unit (NA)   -+   (MOVE_DEPTH)
       profile in force ---------------- on a segment's start -> profile queue (PROFILE_DEPTH)
   move queue head + profile queue head -> profile stage (``spec.profile``) -> pop ->
@@ -41,6 +41,10 @@ Data path, clock by clock (issue 13: the interpolators decoupled from the pacing
   (every edge at rest while it is high) drops everything not yet moved, like
   abort_now; ``feed_override`` (1/128, 0..128) scales the cruise speed, its changes
   ramping at the segment's acceleration.
+* Helix (``spec.helix``): the arc unit's moves are in its plane (u, v); the mapper
+  puts them on the command's two axes and steps the helix slots' axes against the
+  arc's move count N; an arc whose move count is not N reports E_HELIX_COUNT at its
+  last move (that code wins over a reject at the same edge).
 * STEP/DIR: a popped move requests a step on every axis it steps; positions count
   them.
 * Outputs (``spec.outputs.OutputStage``): an OUTPUT command waits at the queue
@@ -61,6 +65,7 @@ from dataclasses import dataclass, field, replace
 from . import encoding as enc
 from . import profile as pf
 from .arc import MOVE_A, V_HOLD, ArcInputs, ArcUnitModel
+from .helix import HelixCommand, HelixMapper, helix_error
 from .line import L_HOLD, LineInputs, LineUnitModel
 from .outputs import OutputInputs, OutputStage
 from .rules import fits, wrap
@@ -78,7 +83,7 @@ def profile_fields_ok(p: pf.ProfileParams, width: int) -> bool:
 
 def decode_for_core(cmd: int, axes: int, width: int):
     """('err', code) | ('nop',) | ('profile', ProfileParams) | ('line', deltas, cont) |
-    ('arc', (cw, xs, ys, xe, ye), cont) | ('output', OutputSettings): what the
+    ('arc', (cw, xs, ys, xe, ye), cont, HelixCommand) | ('output', OutputSettings): what the
     dispatcher does with the head
     (the profile rules that depend on the profile in force: ``dispatch``)."""
     d = enc.decode(cmd)
@@ -107,9 +112,15 @@ def decode_for_core(cmd: int, axes: int, width: int):
         return ("line", tuple(deltas), d["cont"])
     xs, ys = -d["i"], -d["j"]
     xe, ye = d["x"] - d["i"], d["y"] - d["j"]
+    helix = HelixCommand(d["u_axis"], d["v_axis"], d["count"], d["helix"])
+    code = helix_error(helix, axes, lambda v: fits(v, width))
+    if code == enc.E_OPCODE:
+        return ("err", code)
     if not all(fits(v, width) for v in (d["i"], d["j"], d["x"], d["y"], xs, ys, xe, ye)):
         return ("err", enc.E_FIELD)
-    return ("arc", (d["cw"], xs, ys, xe, ye), d["cont"])
+    if code:
+        return ("err", code)
+    return ("arc", (d["cw"], xs, ys, xe, ye), d["cont"], helix)
 
 
 def dispatch(dec, profile):
@@ -223,7 +234,7 @@ class CoreModel:
 
     def __post_init__(self) -> None:
         if not 2 <= self.axes <= 6:
-            raise ValueError("the core has 2..6 axes (arcs use axes 0 and 1)")
+            raise ValueError("the core has 2..6 axes")
         if self.depth < 2 or self.depth & (self.depth - 1):
             raise ValueError("queue depth must be a power of two >= 2")
         if not 2 <= self.move_depth <= 16:
@@ -241,6 +252,8 @@ class CoreModel:
         self.pend_cont = False                          # CONT of the command in flight
         self.accepted = False               # its profile entered the profile queue
         self.arc = ArcUnitModel(self.width)
+        self.helix = HelixMapper(self.axes)
+        self.helix_err = False              # E_HELIX_COUNT at this edge (the arc's last move)
         self.line = LineUnitModel(self.axes, self.width)
         self.moves: list[QueuedMove] = []               # the move queue
         self.profiles: list[tuple] = []                 # the profile queue: (params, cont)
@@ -267,6 +280,8 @@ class CoreModel:
         self.accepted = False
         self.profile = None
         self.arc.clock(ArcInputs(abort=1))
+        self.helix.clock(None, False, False, abort=True)
+        self.helix_err = False
         self.line.clock(LineInputs(s_delta=(0,) * self.axes, abort=1))
         self.moves.clear()
         self.profiles.clear()
@@ -292,7 +307,7 @@ class CoreModel:
         if unit == "arc":
             kind, dx, dy = self.arc.run.peek()
             cls = pf.CLASS_DIAG if kind == MOVE_A else pf.CLASS_AXIS
-            return (dx, dy) + (0,) * (self.axes - 2), cls
+            return self.helix.steps(dx, dy), cls
         return tuple(self.line.run.peek()), pf.CLASS_LINE
 
     def _ready(self, steps) -> bool:
@@ -450,6 +465,12 @@ class CoreModel:
                 move.last = True
             if holding and model.vstate != hold:
                 loading = u
+        # the arc-to-axes mapper: the running arc's move, the pending arc's start, the
+        # arc handed over (spec.helix)
+        arc_move = running == "arc" and move is not None
+        self.helix_err = arc_move and self.helix.count_error(move.last)
+        self.helix.clock(head.cmd[3] if head.take == "arc" else None, loading == "arc",
+                         arc_move)
         if accept:
             self.profiles.append((self.profile, self.pend_cont))
             self.accepted = True
@@ -508,9 +529,12 @@ class CoreModel:
             speed=speed, take=int(bool(take)), take_v_cruise=v_cruise))
 
     def _clock_status(self, head: HeadView, popped, w) -> None:
-        """err / err_code."""
-        self.o_err = int(head.err_code != 0)
-        if head.err_code:
+        """err / err_code (an arc's move count error wins over a reject at the
+        same edge)."""
+        self.o_err = int(head.err_code != 0 or self.helix_err)
+        if self.helix_err:
+            self.o_err_code = enc.E_HELIX_COUNT
+        elif head.err_code:
             self.o_err_code = head.err_code
 
 

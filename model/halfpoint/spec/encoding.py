@@ -5,16 +5,33 @@ A command is one beat of the AXI4-Stream input, CMD_BITS = 256 bits, eight
 32-bit little-endian words (word k in bits 32k+31 .. 32k):
 
 ====  ==============================  =====================================
-word  LINE                            ARC (XY plane)
+word  LINE                            ARC (any plane, helix)
 ====  ==============================  =====================================
 0     opcode (bits 3:0) = 1           opcode = 2 (CW, G2) or 3 (CCW, G3)
-      bit 8: CONT, more segments of   bit 8: CONT
-      this program follow
-1     0 (reserved)                    0 (reserved)
+      bit 8: CONT, more segments of   bit 8: CONT; bits 18:16 axis u,
+      this program follow             bits 22:20 axis v (the plane)
+1     0 (reserved)                    count N: the arc's exact move count
+                                      (unsigned; 0 = not given, flat only)
 2..7  delta of axis 0..5 (signed)     2: I, 3: J = centre minus the current
-                                      position; 4: X, 5: Y = end minus the
-                                      current position (signed); 6, 7: 0
+                                      position; 4: U, 5: V = end minus the
+                                      current position, in (u, v) (signed);
+                                      6, 7: helix deltas of the first and
+                                      second axis outside the plane
 ====  ==============================  =====================================
+
+An arc runs in the plane of axes (u, v), clockwise or counter-clockwise as
+seen from the positive normal axis u x v: G17 is (X, Y) = (0, 1), G18 is
+(Z, X) = (2, 0) and G19 is (Y, Z) = (1, 2) (LinuxCNC's orientation).  The
+helix slots 0 and 1 are the axes outside the plane in increasing order (a
+core of NA axes has min(2, NA - 2) slots; a non-zero delta in a slot it does
+not have is a reserved bit set, E_OPCODE).  Every arc move steps slot k's
+axis by the difference method against N (``spec.helix``): after exactly N
+moves it has made exactly |delta| steps, so |delta| <= N (else E_HELIX; a
+delta with N = 0 too).  An axis pair out of range (u or v >= NA, u == v) or
+a delta beyond W is E_FIELD.  If the arc makes a number of moves other than
+N (the host's encoder gives the exact count from ``spec.arc.arc_stop``), the
+helix steps beyond N are dropped, the steps short of |delta| are not made,
+and the core reports E_HELIX_COUNT at the arc's last move.
 
 PROFILE (opcode 4; word 0 has no flag) sets the velocity profile of the motion
 commands that follow it (``spec.profile.ProfileParams``; the host sends one
@@ -91,6 +108,8 @@ E_ARC_RANGE = 4     # arc: circle does not fit the width
 E_ARC_END = 5       # arc: end point off the circle
 E_PROFILE = 6       # motion with no profile in force, or of the wrong kind
 E_PROFILE_FIELD = 7     # a PROFILE's fields break the rules
+E_HELIX = 8         # arc: a helix delta exceeds the move count N (or N = 0)
+E_HELIX_COUNT = 9   # arc: made a number of moves other than its N (helix cut short)
 
 ERR_TEXT = {
     E_NONE: "ok",
@@ -101,7 +120,30 @@ ERR_TEXT = {
     E_ARC_END: "arc end point is off the circle",
     E_PROFILE: "no profile in force for this motion, or one of the other kind",
     E_PROFILE_FIELD: "profile fields break the rules (v_exit, accel, d_stop, d_exit)",
+    E_HELIX: "helix delta exceeds the arc's move count",
+    E_HELIX_COUNT: "arc made a number of moves other than its count (helix steps dropped)",
 }
+
+# ARC: the plane's axes (u, v) in word 0, the move count in word 1, the helix
+# deltas in words 6, 7: (name, lsb, bits)
+ARC_U_FIELD = ("u_axis", 16, 3)
+ARC_V_FIELD = ("v_axis", 20, 3)
+ARC_COUNT_FIELD = ("count", 32, 32)
+HELIX_SLOTS = 2
+# the planes of G17, G18, G19 as (u, v): CW/CCW as seen from the positive u x v
+PLANES = {17: (0, 1), 18: (2, 0), 19: (1, 2)}
+PLANE_XY = PLANES[17]
+
+
+def helix_slots(axes: int) -> int:
+    """Helix slots of a core of ``axes`` axes."""
+    return max(0, min(HELIX_SLOTS, axes - 2))
+
+
+def helix_axes(u: int, v: int, axes: int) -> tuple:
+    """The axes of the helix slots of the plane (u, v): the axes outside the plane in
+    increasing order, at most ``helix_slots(axes)`` of them."""
+    return tuple(a for a in range(axes) if a not in (u, v))[:helix_slots(axes)]
 
 # PROFILE fields: (name, lsb, bits), in order
 PROFILE_FIELDS = (
@@ -156,9 +198,23 @@ def encode_line(deltas, cont: bool = False) -> int:
     return pack(words + [0] * (CMD_WORDS - len(words)))
 
 
-def encode_arc(cw: int, i: int, j: int, x: int, y: int, cont: bool = False) -> int:
+def encode_arc(cw: int, i: int, j: int, x: int, y: int, cont: bool = False, *,
+               plane=PLANE_XY, count: int = 0, helix=(0, 0)) -> int:
+    """An ARC command: ``i, j`` the centre and ``x, y`` the end minus the current
+    position in the plane's (u, v) = ``plane``; ``count`` the exact move count
+    (``spec.arc.arc_stop``; 0 only for a flat arc), ``helix`` the deltas of the
+    helix slots (``helix_axes``)."""
     op = OP_ARC_CW if cw else OP_ARC_CCW
-    return pack([op | (FLAG_CONT if cont else 0), 0, i, j, x, y, 0, 0])
+    u, v = plane
+    helix = tuple(helix) + (0,) * (HELIX_SLOTS - len(tuple(helix)))
+    if len(helix) != HELIX_SLOTS:
+        raise ValueError(f"an arc has at most {HELIX_SLOTS} helix deltas")
+    for name, (_, _, bits), value in (("u", ARC_U_FIELD, u), ("v", ARC_V_FIELD, v),
+                                      ("count", ARC_COUNT_FIELD, count)):
+        if not 0 <= value < 1 << bits:
+            raise ValueError(f"arc {name} {value} does not fit {bits} bits unsigned")
+    word0 = op | (FLAG_CONT if cont else 0) | (u << ARC_U_FIELD[1]) | (v << ARC_V_FIELD[1])
+    return pack([word0, count, i, j, x, y, helix[0], helix[1]])
 
 
 def encode_profile(v_cruise: int, v_exit: int, accel: int, line_cost: int = 0,
@@ -201,7 +257,14 @@ def decode(cmd: int) -> dict:
     elif op in (OP_ARC_CW, OP_ARC_CCW):
         d["cw"] = int(op == OP_ARC_CW)
         d["i"], d["j"], d["x"], d["y"] = (_s32(v) for v in w[2:6])
-        d["reserved_ok"] = d["reserved_ok"] and w[6] == 0 and w[7] == 0
+        d["u_axis"] = (w[0] >> ARC_U_FIELD[1]) & ((1 << ARC_U_FIELD[2]) - 1)
+        d["v_axis"] = (w[0] >> ARC_V_FIELD[1]) & ((1 << ARC_V_FIELD[2]) - 1)
+        d["count"] = w[1]
+        d["helix"] = tuple(_s32(v) for v in w[6:6 + HELIX_SLOTS])
+        used0 = OPCODE_MASK | FLAG_CONT
+        for _, lsb, bits in (ARC_U_FIELD, ARC_V_FIELD):
+            used0 |= ((1 << bits) - 1) << lsb
+        d["reserved_ok"] = (w[0] & ~used0) == 0
     elif op == OP_PROFILE:
         d["cont"] = False
         d["reserved_ok"] = (w[0] & ~OPCODE_MASK) == 0

@@ -367,6 +367,8 @@ def _lean_clock(m: CoreModel) -> None:
     loading, push = m._clock_units(HeadView(profile=m.profile))
     if push is not None:
         m.moves.append(push)
+    if m.helix_err:                     # CoreModel._clock_status: an arc's count error
+        m.o_err, m.o_err_code = 1, enc.E_HELIX_COUNT
     _skip_stage(m, 1)
     for sg, c in zip(m.stepgens, m.cfg):
         _sg_advance(sg, c, 1)

@@ -22,13 +22,15 @@ from . import encoding as enc
 from . import profile as pf
 from .arc import ArcRejected, arc_points
 from .core import ARC_ERR_MAP, decode_for_core, dispatch
+from .helix import map_arc
 from .line import line_steps
 from .rules import wrap
 
 
-def segment_moves(dec, width: int = 32):
-    """(steps per move, cost class per move) of a decoded motion command, or None
-    for an arc the validator rejects."""
+def segment_moves(dec, width: int = 32, axes: int = 3):
+    """(signed steps per axis of each move, cost class per move) of a decoded motion
+    command (an arc's moves mapped onto its plane's axes and its helix slots by
+    ``spec.helix``), or None for an arc the validator rejects."""
     if dec[0] == "line":
         steps = line_steps(dec[1])
         return steps, [pf.CLASS_LINE] * len(steps)
@@ -37,17 +39,17 @@ def segment_moves(dec, width: int = 32):
         pts = arc_points(xs, ys, xe, ye, cw, width)
     except ArcRejected:
         return None
-    steps, classes = [], []
+    plane, classes = [], []
     for (x0, y0), (x1, y1) in zip(pts, pts[1:]):
-        steps.append((x1 - x0, y1 - y0))
+        plane.append((x1 - x0, y1 - y0))
         classes.append(pf.CLASS_DIAG if x1 != x0 and y1 != y0 else pf.CLASS_AXIS)
-    return steps, classes
+    return map_arc(plane, dec[3], axes), classes
 
 
 def move_count(cmd: int, axes: int, width: int) -> int:
     """Moves a motion command makes (0 for anything else or a rejected arc)."""
     dec = decode_for_core(cmd, axes, width)
-    moves = segment_moves(dec, width) if dec[0] in ("line", "arc") else None
+    moves = segment_moves(dec, width, axes) if dec[0] in ("line", "arc") else None
     return len(moves[0]) if moves else 0
 
 
@@ -63,21 +65,19 @@ def expect(cmds, axes: int, width: int):
             continue
         if dec[0] in ("nop", "output"):
             continue
-        if dec[0] == "line":
-            for st in line_steps(dec[1]):
-                pos = [wrap(p + s, width) for p, s in zip(pos, st)]
-                trace.append(tuple(pos))
-            continue
-        cw, xs, ys, xe, ye = dec[1]
-        try:
-            pts = arc_points(xs, ys, xe, ye, cw, width)
-        except ArcRejected as exc:
-            errors.append(ARC_ERR_MAP[exc.code])
-            continue
-        for (x0, y0), (x1, y1) in zip(pts, pts[1:]):
-            pos[0] = wrap(pos[0] + x1 - x0, width)
-            pos[1] = wrap(pos[1] + y1 - y0, width)
+        if dec[0] == "arc":
+            cw, xs, ys, xe, ye = dec[1]
+            try:
+                arc_points(xs, ys, xe, ye, cw, width)
+            except ArcRejected as exc:
+                errors.append(ARC_ERR_MAP[exc.code])
+                continue
+        steps, _ = segment_moves(dec, width, axes)
+        for st in steps:
+            pos = [wrap(p + s, width) for p, s in zip(pos, st)]
             trace.append(tuple(pos))
+        if dec[0] == "arc" and dec[3].count and dec[3].count != len(steps):
+            errors.append(enc.E_HELIX_COUNT)
     return trace, tuple(pos), errors
 
 
@@ -109,7 +109,7 @@ def profiled(cmds, axes: int, width: int, div: int, v_cruise, accel, junction=No
             rest_after.add(len(runnable) - 1)
         if dec[0] not in ("line", "arc"):
             continue
-        moves = segment_moves(dec, width)
+        moves = segment_moves(dec, width, axes)
         if moves is None:
             continue
         lc = line_cost(dec[1]) if dec[0] == "line" else 0
@@ -166,3 +166,22 @@ def random_arc(rng, cont=False, rmin=2, rmax=50):
 def random_line(rng, axes, cont=False, scale=40):
     d = [rng.randint(-scale, scale) for _ in range(axes)]
     return enc.encode_line(d, cont)
+
+
+def random_helix(rng, axes: int, cont=False, rmin=2, rmax=50, count_error=0):
+    """A valid arc command in a random plane of a core of ``axes`` axes (G17, G18,
+    G19 when the axes exist, else any pair), its exact move count
+    (``arc.arc_stop``), random helix deltas (at most the count) on its slots;
+    ``count_error`` is added to the count (a command whose arc makes another number
+    of moves: E_HELIX_COUNT)."""
+    from .arc import arc_stop
+
+    planes = [p for p in enc.PLANES.values() if max(p) < axes] or [(0, 1)]
+    u, v = rng.choice(planes)
+    dec = enc.decode(random_arc(rng, cont, rmin, rmax))
+    i, j, x, y = dec["i"], dec["j"], dec["x"], dec["y"]
+    n = arc_stop(-i, -j, x - i, y - j, dec["cw"])[2]
+    slots = len(enc.helix_axes(u, v, axes))
+    helix = [rng.randint(-n, n) if rng.random() < 0.8 else 0 for _ in range(slots)]
+    return enc.encode_arc(dec["cw"], i, j, x, y, cont, plane=(u, v),
+                          count=max(0, n + count_error), helix=helix)
