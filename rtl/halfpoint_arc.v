@@ -138,9 +138,7 @@ module halfpoint_arc #(
     localparam [DATA_W-1:0] THREE_D       = {{(DATA_W-4){1'b0}}, 4'd3};
     localparam [DATA_W-1:0] FOUR_D        = {{(DATA_W-4){1'b0}}, 4'd4};
     localparam [DATA_W-1:0] FIVE_D        = {{(DATA_W-4){1'b0}}, 4'd5};
-    localparam [DATA_W-1:0] SIX_D         = {{(DATA_W-4){1'b0}}, 4'd6};
-    localparam [DATA_W-1:0] EIGHT_D       = {{(DATA_W-4){1'b0}}, 4'd8};
-    localparam [DATA_W-1:0] MINUS_ONE_D   = {DATA_W{1'b1}};
+    localparam [DATA_W-1:0] SEVEN_D       = {{(DATA_W-4){1'b0}}, 4'd7};
     localparam [DATA_W-1:0] MINUS_THREE_D = ~TWO_D;
     localparam [W-1:0]      ONE_W         = {{(W-1){1'b0}}, 1'b1};
     localparam [W-1:0]      TWO_W         = {{(W-2){1'b0}}, 2'd2};
@@ -375,10 +373,15 @@ module halfpoint_arc #(
     reg  [W-1:0]      u_q, v_q, ue_plus1_q;
     reg  [W-1:0]      point_x_q, point_y_q;                 // current point
     reg  [DATA_W-1:0] d1_q, d2_q, f_q;
-    // increments, see the register names in the header
-    reg  [DATA_W-1:0] d1_add_b_q, d1_add_c_q, d_add_a_q, d1_add_b_cross_q, d_add_a_cross_q;
-    reg  [DATA_W-1:0] d2_add_b_q, d2_add_c_q, d2_add_b_cross_q;
-    reg  [DATA_W-1:0] f_add_b_q, f_add_c_q, f_add_a_q;
+    // increments, see the register names in the header; the other five are
+    // one of these plus the adder's carry-in, or come from v_q:
+    //   P1 = Q1 + 1, P2 = G2 + 1, G2 = 2v + 1 = {v, 1}, P4 = Q4 + 1, P5 = ~v + 1
+    reg  [DATA_W-1:0] d_add_a_q;            // P3 = -2u + 2v + 5
+    reg  [DATA_W-1:0] d2_add_b_q;           // Q1 = -2u + 2
+    reg  [DATA_W-1:0] d2_add_c_q;           // Q2 = 2v + 3
+    reg  [DATA_W-1:0] d2_add_b_cross_q;     // Q4 = -3v
+    reg  [DATA_W-1:0] f_add_b_q;            // G1 = -2u + 1
+    reg  [DATA_W-1:0] f_add_a_q;            // G3 = -2u + 2v + 2
     // end-point constants beyond ue + 1, ue - 1, ve - 1 (for the look-ahead)
     reg  [W-1:0]      ue_plus2_q, ue_minus2_q, ve_minus2_q;
     reg               ve_one_q, ue_zero_q, ue_one_q;
@@ -401,38 +404,37 @@ module halfpoint_arc #(
 
     wire advance  = run_q && en && !abort_now;          // a move at this edge
 
-    // increments of the crossing cases, from -(2v+2) = ~P2 + 1
-    wire [DATA_W-1:0] d1_add_c_inverted = ~d1_add_c_q;
+    // 2v + 1 (G2) and ~v (-v - 1) at datapath width, from v_q
+    wire [DATA_W-1:0] v_twice_plus1 = {1'b0, v_q, 1'b1};
+    wire [DATA_W-1:0] v_inverted    = ~{2'b00, v_q};
 
-    // the loop: select one prepared increment, one add per register
-    wire [DATA_W-1:0] d1_add = crossing ? (move_b ? d1_add_b_cross_q : d_add_a_cross_q)
-                             : (move_b ? d1_add_b_q : move_a ? d_add_a_q : d1_add_c_q);
-    wire [DATA_W-1:0] d2_add = crossing ? (move_b ? d2_add_b_cross_q : d_add_a_cross_q)
+    // the loop: select one prepared increment, one add per register, the
+    // carry-in making P1, P2, P4, P5 from Q1, G2, Q4, ~v
+    wire [DATA_W-1:0] d1_add = crossing ? (move_b ? d2_add_b_cross_q : v_inverted)
+                             : (move_b ? d2_add_b_q : move_a ? d_add_a_q : v_twice_plus1);
+    wire              d1_carry = crossing || !move_a;
+    wire [DATA_W-1:0] d2_add = crossing ? (move_b ? d2_add_b_cross_q : v_inverted)
                              : (move_b ? d2_add_b_q : move_a ? d_add_a_q : d2_add_c_q);
-    wire [DATA_W-1:0] f_add  = move_b ? f_add_b_q : move_a ? f_add_a_q : f_add_c_q;
+    wire              d2_carry = crossing && move_a;
+    wire [DATA_W-1:0] f_add  = move_b ? f_add_b_q : move_a ? f_add_a_q : v_twice_plus1;
+    wire [DATA_W-1:0] d1_n   = d1_q + d1_add + {{(DATA_W-1){1'b0}}, d1_carry};
+    wire [DATA_W-1:0] d2_n   = d2_q + d2_add + {{(DATA_W-1){1'b0}}, d2_carry};
 
-    // next increments: register + constant, or ~P2 + constant on a crossing
-    // (u' = v or v + 1, v' = 0); see README for the derivation
+    // next increments: register + constant, or ~(2v + 1) + constant on a
+    // crossing (u' = v or v + 1, v' = 0; ~(2v + 1) = -2v - 2); see README
     // registers whose term is -2u gain 2 on every move that lowers u
     wire [DATA_W-1:0] u_term_add = u_down ? TWO_D : ZERO_D;
-    wire [DATA_W-1:0] d1_add_b_n = crossing ? (d1_add_c_inverted + (move_b ? SIX_D : FOUR_D))
-                                            : (d1_add_b_q + u_term_add);
-    wire [DATA_W-1:0] d1_add_c_n = crossing ? TWO_D : (d1_add_c_q + (v_up ? TWO_D : ZERO_D));
-    wire [DATA_W-1:0] d_add_a_n  = crossing ? (d1_add_c_inverted + (move_b ? EIGHT_D : SIX_D))
+    wire [DATA_W-1:0] v_crossed  = ~v_twice_plus1;
+    wire [DATA_W-1:0] d_add_a_n  = crossing ? (v_crossed + (move_b ? SEVEN_D : FIVE_D))
                                             : (d_add_a_q + (move_a ? FOUR_D : TWO_D));
-    wire [DATA_W-1:0] d1_add_b_cross_n =
-        crossing ? ONE_D : (d1_add_b_cross_q + (v_up ? MINUS_THREE_D : ZERO_D));
-    wire [DATA_W-1:0] d_add_a_cross_n =
-        crossing ? ZERO_D : (d_add_a_cross_q + (v_up ? MINUS_ONE_D : ZERO_D));
-    wire [DATA_W-1:0] d2_add_b_n = crossing ? (d1_add_c_inverted + (move_b ? FIVE_D : THREE_D))
+    wire [DATA_W-1:0] d2_add_b_n = crossing ? (v_crossed + (move_b ? FOUR_D : TWO_D))
                                             : (d2_add_b_q + u_term_add);
     wire [DATA_W-1:0] d2_add_c_n = crossing ? THREE_D : (d2_add_c_q + (v_up ? TWO_D : ZERO_D));
     wire [DATA_W-1:0] d2_add_b_cross_n =
         crossing ? ZERO_D : (d2_add_b_cross_q + (v_up ? MINUS_THREE_D : ZERO_D));
-    wire [DATA_W-1:0] f_add_b_n  = crossing ? (d1_add_c_inverted + (move_b ? FOUR_D : TWO_D))
+    wire [DATA_W-1:0] f_add_b_n  = crossing ? (v_crossed + (move_b ? THREE_D : ONE_D))
                                             : (f_add_b_q + u_term_add);
-    wire [DATA_W-1:0] f_add_c_n  = crossing ? ONE_D : (f_add_c_q + (v_up ? TWO_D : ZERO_D));
-    wire [DATA_W-1:0] f_add_a_n  = crossing ? (d1_add_c_inverted + (move_b ? FIVE_D : THREE_D))
+    wire [DATA_W-1:0] f_add_a_n  = crossing ? (v_crossed + (move_b ? FOUR_D : TWO_D))
                                             : (f_add_a_q + (move_a ? FOUR_D : TWO_D));
 
     wire [W-1:0] u_n    = crossing ? (move_a ? v_q + ONE_W : v_q) : (u_down ? u_q - ONE_W : u_q);
@@ -559,14 +561,10 @@ module halfpoint_arc #(
         end
         if (prepare_terms) begin
             // F = 0 at the start point
-            d1_add_b_q       <= THREE_D - (setup_u << 1);               // P1
-            d1_add_c_q       <= (setup_v << 1) + TWO_D;                 // P2
-            d_add_a_cross_q  <= ZERO_D - setup_v;                       // P5
             d2_add_b_q       <= TWO_D - (setup_u << 1);                 // Q1
             d2_add_c_q       <= (setup_v << 1) + THREE_D;               // Q2
             f_add_b_q        <= ONE_D - (setup_u << 1);                 // G1
-            f_add_c_q        <= (setup_v << 1) + ONE_D;                 // G2
-            d1_add_b_cross_q <= setup_v + (setup_v << 1);               // 3v, until SUMS
+            d2_add_b_cross_q <= setup_v + (setup_v << 1);               // 3v, until SUMS
             d_add_a_q        <= (setup_v - setup_u) << 1;               // 2(v - u), until SUMS
             first_octant_q   <= setup_first_octant;
             armed_q          <= !((quad_q == end_quad_q) && !setup_before);
@@ -589,11 +587,10 @@ module halfpoint_arc #(
         end
         if (prepare_sums) begin
             d1_q             <= setup_v + f_add_b_q;                    // F - 2u + v + 1
-            d2_q             <= f_add_c_q - setup_u;                    // F - u + 2v + 1
+            d2_q             <= v_twice_plus1 - setup_u;                // F - u + 2v + 1
             d_add_a_q        <= d_add_a_q + FIVE_D;                     // P3
             f_add_a_q        <= d_add_a_q + TWO_D;                      // G3
-            d1_add_b_cross_q <= ONE_D - d1_add_b_cross_q;               // P4
-            d2_add_b_cross_q <= ZERO_D - d1_add_b_cross_q;              // Q4
+            d2_add_b_cross_q <= ZERO_D - d2_add_b_cross_q;              // Q4
             ue_minus2_q      <= ue_minus2_q - TWO_W;
             ve_minus2_q      <= ve_minus2_q - TWO_W;
         end
@@ -612,18 +609,13 @@ module halfpoint_arc #(
             v_lt_ue_q        <= v_lt_ue_n;
             v_eq_ue_q        <= v_eq_ue_n;
             v_plus1_eq_ue_q  <= v_plus1_eq_ue_n;
-            d1_q             <= d1_q + d1_add;
-            d2_q             <= d2_q + d2_add;
-            d1_add_b_q       <= d1_add_b_n;
-            d1_add_c_q       <= d1_add_c_n;
+            d1_q             <= d1_n;
+            d2_q             <= d2_n;
             d_add_a_q        <= d_add_a_n;
-            d1_add_b_cross_q <= d1_add_b_cross_n;
-            d_add_a_cross_q  <= d_add_a_cross_n;
             d2_add_b_q       <= d2_add_b_n;
             d2_add_c_q       <= d2_add_c_n;
             d2_add_b_cross_q <= d2_add_b_cross_n;
             f_add_b_q        <= f_add_b_n;
-            f_add_c_q        <= f_add_c_n;
             f_add_a_q        <= f_add_a_n;
         end
     end
