@@ -241,14 +241,34 @@ module halfpoint_arc #(
     wire [ACC_W-1:0] coordinate_wide = {{(ACC_W-W){coordinate[W-1]}}, coordinate};
     wire [ACC_W-1:0] twice_wide      = {{(ACC_W-W-1){coordinate[W-1]}}, coordinate, 1'b0};
 
+    // SQUARE: the counters of the next clock, and the coordinate bit that
+    // selects its operand, fetched a clock ahead (square_bit_q, bit_msb_q)
+    wire       last_operand = second_pass_q ? (operand_q == 2'd3) : (operand_q == 2'd1);
+    wire       second_next  = second_pass_q || (last_operand && bit_q == 5'd0);
+    wire [4:0] bit_next     = !last_operand ? bit_q
+                            : (bit_q == 5'd0) ? BIT_MSB : (bit_q - 5'd1);
+    wire [1:0] operand_next = last_operand ? 2'd0 : (operand_q + 2'd1);
+    wire [1:0] index_next   = second_next ? operand_next : {1'b1, operand_next[0]};
+    reg  [W-1:0] coordinate_next;
+    always @(*) begin
+        case (index_next)
+            2'd0:    coordinate_next = cmd_xe_q;
+            2'd1:    coordinate_next = cmd_ye_q;
+            2'd2:    coordinate_next = cmd_xs_q;
+            default: coordinate_next = cmd_ys_q;
+        endcase
+    end
+    reg  square_bit_q;                  // bit bit_q of the operand coordinate
+    reg  bit_msb_q;                     // bit_q == W - 1
+
     // SQUARE: the term of this clock; negative for the sign bit (two's
     // complement weight) and for xs, ys in the second pass, not for both
-    wire square_bit      = bit_at(coordinate, bit_q);
-    wire square_subtract = (bit_q == BIT_MSB) ^ (second_pass_q && operand_q[1]);
+    wire square_bit      = square_bit_q;
+    wire square_subtract = bit_msb_q ^ (second_pass_q && operand_q[1]);
     wire first_operand   = (operand_q == 2'd0);
     wire [ACC_W-1:0] square_base =
         !first_operand ? accumulator_q
-        : (bit_q == BIT_MSB) ? {ACC_W{1'b0}} : {accumulator_q[ACC_W-2:0], 1'b0};
+        : bit_msb_q ? {ACC_W{1'b0}} : {accumulator_q[ACC_W-2:0], 1'b0};
     wire [ACC_W-1:0] square_term = !square_bit ? {ACC_W{1'b0}}
                                  : square_subtract ? ~coordinate_wide : coordinate_wide;
     // CHECK step 0/2: F_e + ~2c (+1 if c < 0); step 1/3: F_e + 2c
@@ -265,7 +285,6 @@ module halfpoint_arc #(
     wire end_off = coordinate[W-1] ? (first_sign_q || (!sum_sign && !sum_zero))
                                    : (!first_sign_q || sum_sign);
 
-    wire last_operand = second_pass_q ? (operand_q == 2'd3) : (operand_q == 2'd1);
     wire radius_zero  = (cmd_xs_q == {W{1'b0}}) && (cmd_ys_q == {W{1'b0}});
     wire [1:0] decide_error = radius_zero ? 2'd1 : radius_too_big_q ? 2'd2
                             : (end_off_x_q && end_off_y_q) ? 2'd3 : 2'd0;
@@ -311,20 +330,17 @@ module halfpoint_arc #(
             second_pass_q <= 1'b0;
             bit_q         <= BIT_MSB;
             operand_q     <= 2'd0;
+            square_bit_q  <= s_xs[W-1];
+            bit_msb_q     <= 1'b1;
         end
         if (validator_state_q == STATE_SQUARE) begin
             accumulator_q <= sum;
-            if (last_operand) begin
-                operand_q <= 2'd0;
-                bit_q     <= bit_q - 5'd1;
-                if (bit_q == 5'd0) begin
-                    second_pass_q <= 1'b1;
-                    bit_q         <= BIT_MSB;
-                end
-            end else begin
-                operand_q <= operand_q + 2'd1;
-            end
-            if (second_pass_q && first_operand && bit_q == BIT_MSB)
+            second_pass_q <= second_next;
+            bit_q         <= bit_next;
+            operand_q     <= operand_next;
+            square_bit_q  <= bit_at(coordinate_next, bit_next);
+            bit_msb_q     <= (bit_next == BIT_MSB);
+            if (second_pass_q && first_operand && bit_msb_q)
                 radius_too_big_q <= (accumulator_q > RADIUS_SQUARE_MAX);
         end
         if (checking) begin
