@@ -441,20 +441,24 @@ module halfpoint_arc #(
     // registers whose term is -2u gain 2 on every move that lowers u
     wire [DATA_W-1:0] u_term_add = u_down ? TWO_D : ZERO_D;
     wire [DATA_W-1:0] v_crossed  = ~v_twice_plus1;
-    wire [DATA_W-1:0] d_add_a_n  = crossing ? (v_crossed + (move_b ? SEVEN_D : FIVE_D))
-                                            : (d_add_a_q + (move_a ? FOUR_D : TWO_D));
-    wire [DATA_W-1:0] d2_add_b_n = crossing ? (v_crossed + (move_b ? FOUR_D : TWO_D))
-                                            : (d2_add_b_q + u_term_add);
+    // one adder per register: on a crossing ~(2v + 1) plus a constant,
+    // else the register plus a constant
+    wire [DATA_W-1:0] d_add_a_n  = (crossing ? v_crossed : d_add_a_q)
+        + (crossing ? (move_b ? SEVEN_D : FIVE_D) : (move_a ? FOUR_D : TWO_D));
+    wire [DATA_W-1:0] d2_add_b_n = (crossing ? v_crossed : d2_add_b_q)
+        + (crossing ? (move_b ? FOUR_D : TWO_D) : u_term_add);
     wire [DATA_W-1:0] d2_add_c_n = crossing ? THREE_D : (d2_add_c_q + (v_up ? TWO_D : ZERO_D));
     wire [DATA_W-1:0] d2_add_b_cross_n =
         crossing ? ZERO_D : (d2_add_b_cross_q + (v_up ? MINUS_THREE_D : ZERO_D));
-    wire [DATA_W-1:0] f_add_b_n  = crossing ? (v_crossed + (move_b ? THREE_D : ONE_D))
-                                            : (f_add_b_q + u_term_add);
-    wire [DATA_W-1:0] f_add_a_n  = crossing ? (v_crossed + (move_b ? FOUR_D : TWO_D))
-                                            : (f_add_a_q + (move_a ? FOUR_D : TWO_D));
+    wire [DATA_W-1:0] f_add_b_n  = (crossing ? v_crossed : f_add_b_q)
+        + (crossing ? (move_b ? THREE_D : ONE_D) : u_term_add);
+    wire [DATA_W-1:0] f_add_a_n  = (crossing ? v_crossed : f_add_a_q)
+        + (crossing ? (move_b ? FOUR_D : TWO_D) : (move_a ? FOUR_D : TWO_D));
 
-    wire [W-1:0] u_n    = crossing ? (move_a ? v_q + ONE_W : v_q) : (u_down ? u_q - ONE_W : u_q);
-    wire [W-1:0] v_n    = crossing ? {W{1'b0}} : (v_up ? v_q + ONE_W : v_q);
+    // u' = v or v + 1 on a crossing, else u - 1 or u (one adder)
+    wire [W-1:0] u_n    = (crossing ? v_q : u_q)
+                        + (crossing ? {{(W-1){1'b0}}, move_a} : {W{u_down}});
+    wire [W-1:0] v_n    = crossing ? {W{1'b0}} : (v_q + {{(W-1){1'b0}}, v_up});
     wire [1:0]   quad_crossed = cw_q ? quad_q - 2'd1 : quad_q + 2'd1;   // the next quadrant
     wire [1:0]   quad_n = crossing ? quad_crossed : quad_q;
 
@@ -466,10 +470,11 @@ module halfpoint_arc #(
     wire y_steps     = u_is_x ? v_up : u_down;
     wire x_direction = u_is_x ? !x_positive : x_positive;     // 1 = positive
     wire y_direction = u_is_x ? y_positive : !y_positive;
-    wire [W-1:0] point_x_n = x_steps ? (x_direction ? point_x_q + ONE_W : point_x_q - ONE_W)
-                                     : point_x_q;
-    wire [W-1:0] point_y_n = y_steps ? (y_direction ? point_y_q + ONE_W : point_y_q - ONE_W)
-                                     : point_y_q;
+    // point + 1, - 1 (all ones) or + 0: one adder per axis
+    wire [W-1:0] point_x_n = point_x_q
+                           + {{(W-1){x_steps && !x_direction}}, x_steps};
+    wire [W-1:0] point_y_n = point_y_q
+                           + {{(W-1){y_steps && !y_direction}}, y_steps};
 
     // end detection for the point after this move (progress order of E),
     // from the registered comparison flags
