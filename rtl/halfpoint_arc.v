@@ -226,29 +226,21 @@ module halfpoint_arc #(
     wire   accept  = s_valid && s_ready;
 
     wire checking = (validator_state_q == STATE_CHECK);
-    // operand coordinate: 0 xe, 1 ye, 2 xs, 3 ys
-    wire [1:0] coordinate_index = checking ? {1'b1, operand_q[1]}
-                                : second_pass_q ? operand_q : {1'b1, operand_q[0]};
-    reg  [W-1:0] coordinate;
-    always @(*) begin
-        case (coordinate_index)
-            2'd0:    coordinate = cmd_xe_q;
-            2'd1:    coordinate = cmd_ye_q;
-            2'd2:    coordinate = cmd_xs_q;
-            default: coordinate = cmd_ys_q;
-        endcase
-    end
-    wire [ACC_W-1:0] coordinate_wide = {{(ACC_W-W){coordinate[W-1]}}, coordinate};
-    wire [ACC_W-1:0] twice_wide      = {{(ACC_W-W-1){coordinate[W-1]}}, coordinate, 1'b0};
+    localparam integer TERM_W = W + 1;  // an operand: 0, +/-c or +/-2c, |c| <= 2^(W-1)
 
-    // SQUARE: the counters of the next clock, and the coordinate bit that
-    // selects its operand, fetched a clock ahead (square_bit_q, bit_msb_q)
+    // The counters of the next clock and the operand (term) it adds, fetched
+    // a clock ahead into term_q / carry_q, so that the adder sees registers.
     wire       last_operand = second_pass_q ? (operand_q == 2'd3) : (operand_q == 2'd1);
     wire       second_next  = second_pass_q || (last_operand && bit_q == 5'd0);
     wire [4:0] bit_next     = !last_operand ? bit_q
                             : (bit_q == 5'd0) ? BIT_MSB : (bit_q - 5'd1);
     wire [1:0] operand_next = last_operand ? 2'd0 : (operand_q + 2'd1);
-    wire [1:0] index_next   = second_next ? operand_next : {1'b1, operand_next[0]};
+    // the next clock is a CHECK clock
+    wire       checking_next = checking ? (operand_q != 2'd3)
+                             : (second_pass_q && last_operand && bit_q == 5'd0);
+    // operand coordinate: 0 xe, 1 ye, 2 xs, 3 ys
+    wire [1:0] index_next   = checking_next ? {1'b1, operand_next[1]}
+                            : second_next ? operand_next : {1'b1, operand_next[0]};
     reg  [W-1:0] coordinate_next;
     always @(*) begin
         case (index_next)
@@ -258,32 +250,37 @@ module halfpoint_arc #(
             default: coordinate_next = cmd_ys_q;
         endcase
     end
-    reg  square_bit_q;                  // bit bit_q of the operand coordinate
-    reg  bit_msb_q;                     // bit_q == W - 1
+    // SQUARE: the coordinate's bit selects it; negative for the sign bit (two's
+    // complement weight) and for xs, ys in the second pass, not for both.
+    // CHECK step 0/2: ~2c (and a carry if c < 0); step 1/3: +2c
+    wire              bit_value_next = bit_at(coordinate_next, bit_next);
+    wire              subtract_next  = (bit_next == BIT_MSB) ^ (second_next && operand_next[1]);
+    wire [TERM_W-1:0] single_next    = {coordinate_next[W-1], coordinate_next};
+    wire [TERM_W-1:0] twice_next     = {coordinate_next, 1'b0};
+    wire [TERM_W-1:0] term_next =
+        checking_next ? (operand_next[0] ? twice_next : ~twice_next)
+        : !bit_value_next ? {TERM_W{1'b0}} : subtract_next ? ~single_next : single_next;
+    wire carry_next = checking_next ? (!operand_next[0] && coordinate_next[W-1])
+                                    : (bit_value_next && subtract_next);
+    reg  [TERM_W-1:0] term_q;
+    reg               carry_q;
+    reg               bit_msb_q;        // bit_q == W - 1
 
-    // SQUARE: the term of this clock; negative for the sign bit (two's
-    // complement weight) and for xs, ys in the second pass, not for both
-    wire square_bit      = square_bit_q;
-    wire square_subtract = bit_msb_q ^ (second_pass_q && operand_q[1]);
-    wire first_operand   = (operand_q == 2'd0);
+    // SQUARE: the first operand of a bit doubles acc (clears it on the first bit)
+    wire first_operand = (operand_q == 2'd0);
     wire [ACC_W-1:0] square_base =
         !first_operand ? accumulator_q
         : bit_msb_q ? {ACC_W{1'b0}} : {accumulator_q[ACC_W-2:0], 1'b0};
-    wire [ACC_W-1:0] square_term = !square_bit ? {ACC_W{1'b0}}
-                                 : square_subtract ? ~coordinate_wide : coordinate_wide;
-    // CHECK step 0/2: F_e + ~2c (+1 if c < 0); step 1/3: F_e + 2c
-    wire [ACC_W-1:0] check_term  = operand_q[0] ? twice_wide : ~twice_wide;
-    wire             carry_in    = checking ? (!operand_q[0] && coordinate[W-1])
-                                            : (square_bit && square_subtract);
     wire [ACC_W-1:0] sum = (checking ? accumulator_q : square_base)
-                         + (checking ? check_term : square_term)
-                         + {{(ACC_W-1){1'b0}}, carry_in};
+                         + {{(ACC_W-TERM_W){term_q[TERM_W-1]}}, term_q}
+                         + {{(ACC_W-1){1'b0}}, carry_q};
     wire sum_sign = sum[ACC_W-1];
     wire sum_zero = (sum == {ACC_W{1'b0}});
     // |F_e| > 2|c|: c >= 0: F_e - 2c - 1 >= 0 or F_e + 2c < 0;
     //               c <  0: F_e - 2c < 0 or F_e + 2c > 0
-    wire end_off = coordinate[W-1] ? (first_sign_q || (!sum_sign && !sum_zero))
-                                   : (!first_sign_q || sum_sign);
+    wire check_negative = operand_q[1] ? cmd_ys_q[W-1] : cmd_xs_q[W-1];
+    wire end_off = check_negative ? (first_sign_q || (!sum_sign && !sum_zero))
+                                  : (!first_sign_q || sum_sign);
 
     wire radius_zero  = (cmd_xs_q == {W{1'b0}}) && (cmd_ys_q == {W{1'b0}});
     wire [1:0] decide_error = radius_zero ? 2'd1 : radius_too_big_q ? 2'd2
@@ -330,15 +327,20 @@ module halfpoint_arc #(
             second_pass_q <= 1'b0;
             bit_q         <= BIT_MSB;
             operand_q     <= 2'd0;
-            square_bit_q  <= s_xs[W-1];
+            // the first operand: xs if its sign bit is set, negative
+            term_q        <= s_xs[W-1] ? ~{s_xs[W-1], s_xs} : {TERM_W{1'b0}};
+            carry_q       <= s_xs[W-1];
             bit_msb_q     <= 1'b1;
+        end
+        if (validator_state_q == STATE_SQUARE || checking) begin
+            term_q        <= term_next;
+            carry_q       <= carry_next;
         end
         if (validator_state_q == STATE_SQUARE) begin
             accumulator_q <= sum;
             second_pass_q <= second_next;
             bit_q         <= bit_next;
             operand_q     <= operand_next;
-            square_bit_q  <= bit_at(coordinate_next, bit_next);
             bit_msb_q     <= (bit_next == BIT_MSB);
             if (second_pass_q && first_operand && bit_msb_q)
                 radius_too_big_q <= (accumulator_q > RADIUS_SQUARE_MAX);
