@@ -32,11 +32,12 @@
 // End detection compares (u, v) with the end point's frame in its quadrant's
 // progress order (see README, "Termination contract").
 //
-// Register names: the increments P1..P5, Q1, Q2, Q4, G1..G3 of the README's
-// pipeline table are named after what they add to and after which move:
-// d1_add_b (P1), d1_add_c (P2), d_add_a (P3, to D1 and D2), d1_add_b_cross
-// (P4), d_add_a_cross (P5), d2_add_b (Q1), d2_add_c (Q2), d2_add_b_cross
-// (Q4), f_add_b (G1), f_add_c (G2), f_add_a (G3).  Registers end in _q, the
+// Register names: of the increments P1..P5, Q1, Q2, Q4, G1..G3 of the README's
+// pipeline table six are registers, named after what they add to and after
+// which move: d_add_a (P3, to D1 and D2), d2_add_b (Q1), d2_add_c (Q2),
+// d2_add_b_cross (Q4), f_add_b (G1), f_add_a (G3); the other five come from
+// them and from v through the adders' carry-in: P1 = Q1 + 1, P4 = Q4 + 1,
+// G2 = 2v + 1 (v_q with a 1 appended), P2 = G2 + 1, P5 = ~v + 1.  Registers end in _q, the
 // value they take at the next edge in _n; pend_* is the pending slot, quad
 // a quadrant (0..3 = I..IV), ue/ve the end point in its quadrant's frame,
 // and a flag such as v_plus1_eq_ue_q holds "v + 1 == ue" for the current v.
@@ -88,9 +89,9 @@ module halfpoint_arc #(
     output reg          step_y,
     output reg          dir_x,
     output reg          dir_y,
-    output wire [W-1:0] x,
-    output wire [W-1:0] y,
-    output wire [W+1:0] f,
+    output reg  [W-1:0] x,
+    output reg  [W-1:0] y,
+    output reg  [W+1:0] f,
     output reg          done,
     output reg          reject,
     output reg  [1:0]   err_code,
@@ -127,10 +128,7 @@ module halfpoint_arc #(
     endgenerate
 
     localparam integer DATA_W = W + 2;      // datapath width
-    // validator accumulator: R^2 <= 2^(2W-1) and |F_e| < 2^(2W), as are the
-    // partial sums of the shift-and-add passes (each a sum of at most four
-    // terms c * (c >> k), |c| <= 2^(W-1)), so 2W+2 bits signed hold them
-    localparam integer ACC_W = 2 * W + 2;
+    localparam integer SQUARE_W = 2 * W;    // width of a square
     // small signed constants at datapath width
     localparam [DATA_W-1:0] ZERO_D        = {DATA_W{1'b0}};
     localparam [DATA_W-1:0] ONE_D         = {{(DATA_W-4){1'b0}}, 4'd1};
@@ -141,20 +139,20 @@ module halfpoint_arc #(
     localparam [DATA_W-1:0] SEVEN_D       = {{(DATA_W-4){1'b0}}, 4'd7};
     localparam [DATA_W-1:0] MINUS_THREE_D = ~TWO_D;
     localparam [W-1:0]      ONE_W         = {{(W-1){1'b0}}, 1'b1};
-    localparam [W-1:0]      TWO_W         = {{(W-2){1'b0}}, 2'd2};
-    localparam integer      MSB_INDEX     = W - 1;
-    localparam [4:0]        BIT_MSB       = MSB_INDEX[4:0];
+    localparam integer SQUARE_LAST = W - 1;
     // validator states
     localparam [2:0] STATE_IDLE   = 3'd0;
     localparam [2:0] STATE_SQUARE = 3'd1;
-    localparam [2:0] STATE_CHECK  = 3'd2;
-    localparam [2:0] STATE_DECIDE = 3'd3;
-    localparam [2:0] STATE_HOLD   = 3'd4;
+    localparam [2:0] STATE_SUM    = 3'd2;
+    localparam [2:0] STATE_CHECK  = 3'd3;
+    localparam [2:0] STATE_DECIDE = 3'd4;
+    localparam [2:0] STATE_INIT   = 3'd5;
+    localparam [2:0] STATE_HOLD   = 3'd6;
     // Largest accepted R^2: (M-1)(M-2) = M^2 - 3M + 2, M = 2^(W-1).
-    localparam [ACC_W-1:0] ONE_ACC = {{(ACC_W-1){1'b0}}, 1'b1};
-    localparam [ACC_W-1:0] THREE_ACC = {{(ACC_W-2){1'b0}}, 2'b11};
-    localparam [ACC_W-1:0] RADIUS_SQUARE_MAX =
-        (ONE_ACC << (2*W-2)) - (THREE_ACC << (W-1)) + (ONE_ACC << 1);
+    localparam [SQUARE_W+1:0] ONE_SQUARE = {{(SQUARE_W+1){1'b0}}, 1'b1};
+    localparam [SQUARE_W+1:0] THREE_SQUARE = {{(SQUARE_W){1'b0}}, 2'b11};
+    localparam [SQUARE_W+1:0] RADIUS_SQUARE_MAX =
+        (ONE_SQUARE << (2*W-2)) - (THREE_SQUARE << (W-1)) + (ONE_SQUARE << 1);
 
     // Quadrant (0..3 = I..IV) of a non-origin point for a direction; a point
     // on an axis belongs to the quadrant the motion enters.
@@ -180,119 +178,117 @@ module halfpoint_arc #(
         end
     endfunction
 
-    function [W-1:0] magnitude;
-        input [W-1:0] a;
-        begin
-            magnitude = a[W-1] ? (~a + ONE_W) : a;
-        end
-    endfunction
-
-    // bit `index` of a (a W:1 multiplexer)
-    function bit_at;
-        input [W-1:0] a;
-        input [4:0]   index;
-        integer       k;
-        begin
-            bit_at = 1'b0;
-            for (k = 0; k < W; k = k + 1)
-                if ({27'd0, index} == k) bit_at = a[k];
-        end
-    endfunction
-
     // ------------------------------------------------------------------
-    // Validator: one adder, shift-and-add over 6W + 4 clocks.
-    //   SQUARE, first pass (2 clocks per bit, MSB first):  acc = R^2 = xs^2 + ys^2
-    //   SQUARE, second pass (4 clocks per bit): acc = F_e = xe^2 + ye^2 - xs^2 - ys^2
-    //     (Horner: the first operand of each bit doubles acc; a coordinate's own
-    //     bits select it, its sign bit with weight -2^(W-1)); the first clock of
-    //     the second pass registers R^2 > (M-1)(M-2) from the first pass's acc
-    //   CHECK (4 clocks): F_e -/+ 2xs and F_e -/+ 2ys, their signs -> code 3
-    //   DECIDE: reject (codes 1..3) or HOLD
+    // Validator: capture, square by shift-and-add, check, prepare.
     // ------------------------------------------------------------------
-    reg  [2:0]       validator_state_q;
+    reg  [2:0]          validator_state_q;
     // validator_state_q == STATE_HOLD, as a flip-flop of its own (it gates
-    // the frame set-up and the load)
-    reg              hold_q;
-    reg              second_pass_q;     // 0: R^2 pass, 1: F_e pass
-    reg  [4:0]       bit_q;             // bit of the pass, W-1 down to 0
-    reg  [1:0]       operand_q;         // operand of the bit, or step of CHECK
-    reg              cmd_cw_q;
-    reg  [W-1:0]     cmd_xs_q, cmd_ys_q, cmd_xe_q, cmd_ye_q;   // raw coordinates
-    reg  [ACC_W-1:0] accumulator_q;
-    // the checks: R^2 too big; CHECK's first sign of each pair; |F_e| > 2|xs|, > 2|ys|
-    reg              radius_too_big_q, first_sign_q, end_off_x_q, end_off_y_q;
+    // the load of the pending arc)
+    reg                 hold_q;
+    reg  [5:0]          square_count_q;
+    reg                 cmd_cw_q;
+    reg  [W-1:0]        cmd_xs_q, cmd_ys_q, cmd_xe_q, cmd_ye_q;   // raw coordinates
+    reg  [W-1:0]        abs_xs_q, abs_ys_q, abs_xe_q, abs_ye_q;   // magnitudes
+    reg  [SQUARE_W-1:0] square_xs_q, square_ys_q, square_xe_q, square_ye_q;
+    reg  [SQUARE_W:0]   radius_square_q, end_square_q;            // R^2 and |E|^2
+    reg  [W:0]          tolerance_q;                              // 2 max(|xs|, |ys|)
+    // the checks: R = 0, R^2 too big, |E|^2 - R^2 > tolerance, R^2 - |E|^2 > tolerance
+    reg                 radius_zero_q, radius_too_big_q, end_outside_q, end_inside_q;
+    // terms of the frame set-up: 3v and 2(v - u) of the start point
+    reg  [DATA_W-1:0]   init_v_times3_q, init_v_minus_u_twice_q;
+
+    // pending command, in run-stage form
+    reg  [1:0]        pend_quad_q, pend_end_quad_q;
+    reg  [W-1:0]      pend_u_q, pend_v_q, pend_ue_q, pend_ve_q;
+    reg  [DATA_W-1:0] pend_d1_q, pend_d2_q;
+    // the six stored increments (see the run stage)
+    reg  [DATA_W-1:0] pend_d_add_a_q, pend_d2_add_b_q, pend_d2_add_c_q, pend_d2_add_b_cross_q;
+    reg  [DATA_W-1:0] pend_f_add_b_q, pend_f_add_a_q;
+    reg  [W-1:0]      pend_ue_plus1_q, pend_ue_minus1_q, pend_ve_minus1_q;
+    reg  [W-1:0]      pend_ue_plus2_q, pend_ue_minus2_q, pend_ve_minus2_q;
+    reg               pend_armed_q, pend_first_octant_q, pend_ve_zero_q;
+    reg               pend_ve_one_q, pend_ue_zero_q, pend_ue_one_q, pend_u_one_q;
+    // the run stage's comparison flags for the start point (see the run stage)
+    reg               pend_v_gt_ve_q, pend_v_eq_ve_q, pend_v_plus1_eq_ve_q;
+    reg               pend_u_lt_ue_q, pend_u_eq_ue_q, pend_u_eq_ue_plus1_q;
+    reg               pend_v_lt_ue_q, pend_v_eq_ue_q, pend_v_plus1_eq_ue_q;
 
     assign s_ready = (validator_state_q == STATE_IDLE) && !abort_now;
     wire   accept  = s_valid && s_ready;
 
-    wire checking = (validator_state_q == STATE_CHECK);
-    localparam integer TERM_W = W + 1;  // an operand: 0, +/-c or +/-2c, |c| <= 2^(W-1)
+    function [W-1:0] magnitude;
+        input [W-1:0] a;
+        begin
+            magnitude = a[W-1] ? (~a + {{(W-1){1'b0}}, 1'b1}) : a;
+        end
+    endfunction
 
-    // The counters of the next clock and the operand (term) it adds, fetched
-    // a clock ahead into term_q / carry_q, so that the adder sees registers.
-    wire       last_operand = second_pass_q ? (operand_q == 2'd3) : (operand_q == 2'd1);
-    wire       second_next  = second_pass_q || (last_operand && bit_q == 5'd0);
-    wire [4:0] bit_next     = !last_operand ? bit_q
-                            : (bit_q == 5'd0) ? BIT_MSB : (bit_q - 5'd1);
-    wire [1:0] operand_next = last_operand ? 2'd0 : (operand_q + 2'd1);
-    // the next clock is a CHECK clock
-    wire       checking_next = checking ? (operand_q != 2'd3)
-                             : (second_pass_q && last_operand && bit_q == 5'd0);
-    // operand coordinate: 0 xe, 1 ye, 2 xs, 3 ys
-    wire [1:0] index_next   = checking_next ? {1'b1, operand_next[1]}
-                            : second_next ? operand_next : {1'b1, operand_next[0]};
-    reg  [W-1:0] coordinate_next;
-    always @(*) begin
-        case (index_next)
-            2'd0:    coordinate_next = cmd_xe_q;
-            2'd1:    coordinate_next = cmd_ye_q;
-            2'd2:    coordinate_next = cmd_xs_q;
-            default: coordinate_next = cmd_ys_q;
-        endcase
-    end
-    // SQUARE: the coordinate's bit selects it; negative for the sign bit (two's
-    // complement weight) and for xs, ys in the second pass, not for both.
-    // CHECK step 0/2: ~2c (and a carry if c < 0); step 1/3: +2c
-    wire              bit_value_next = bit_at(coordinate_next, bit_next);
-    wire              subtract_next  = (bit_next == BIT_MSB) ^ (second_next && operand_next[1]);
-    wire [TERM_W-1:0] single_next    = {coordinate_next[W-1], coordinate_next};
-    wire [TERM_W-1:0] twice_next     = {coordinate_next, 1'b0};
-    wire [TERM_W-1:0] term_next =
-        checking_next ? (operand_next[0] ? twice_next : ~twice_next)
-        : !bit_value_next ? {TERM_W{1'b0}} : subtract_next ? ~single_next : single_next;
-    wire carry_next = checking_next ? (!operand_next[0] && coordinate_next[W-1])
-                                    : (bit_value_next && subtract_next);
-    reg  [TERM_W-1:0] term_q;
-    reg               carry_q;
-    reg               bit_msb_q;        // bit_q == W - 1
+    // one shift-and-add squaring step: P = {hi, lo}; hi += lo[0] ? a : 0
+    function [SQUARE_W-1:0] square_step;
+        input [SQUARE_W-1:0] p;
+        input [W-1:0]        a;
+        reg   [W:0]          s;
+        begin
+            s = {1'b0, p[SQUARE_W-1:W]} + (p[0] ? {1'b0, a} : {(W+1){1'b0}});
+            square_step = {s, p[W-1:1]};
+        end
+    endfunction
 
-    // SQUARE: the first operand of a bit doubles acc (clears it on the first bit)
-    wire first_operand = (operand_q == 2'd0);
-    wire [ACC_W-1:0] square_base =
-        !first_operand ? accumulator_q
-        : bit_msb_q ? {ACC_W{1'b0}} : {accumulator_q[ACC_W-2:0], 1'b0};
-    wire [ACC_W-1:0] sum = (checking ? accumulator_q : square_base)
-                         + {{(ACC_W-TERM_W){term_q[TERM_W-1]}}, term_q}
-                         + {{(ACC_W-1){1'b0}}, carry_q};
-    wire sum_sign = sum[ACC_W-1];
-    wire sum_zero = (sum == {ACC_W{1'b0}});
-    // |F_e| > 2|c|: c >= 0: F_e - 2c - 1 >= 0 or F_e + 2c < 0;
-    //               c <  0: F_e - 2c < 0 or F_e + 2c > 0
-    wire check_negative = operand_q[1] ? cmd_ys_q[W-1] : cmd_xs_q[W-1];
-    wire end_off = check_negative ? (first_sign_q || (!sum_sign && !sum_zero))
-                                  : (!first_sign_q || sum_sign);
+    // The validator's work is spread so that each clock does at most one
+    // add or compare: the frame set-up of the pending slot runs in the first
+    // three squaring clocks (W >= 8 of them; the pending slot is free then, as
+    // a command is taken only when the previous one has left it), the two
+    // squares are summed in SUM, and CHECK registers the three checks.
+    wire       prepare_frame = (validator_state_q == STATE_SQUARE) && (square_count_q == 6'd0);
+    wire       prepare_terms = (validator_state_q == STATE_SQUARE) && (square_count_q == 6'd1);
+    wire       prepare_sums  = (validator_state_q == STATE_SQUARE) && (square_count_q == 6'd2);
 
-    wire radius_zero  = (cmd_xs_q == {W{1'b0}}) && (cmd_ys_q == {W{1'b0}});
-    wire [1:0] decide_error = radius_zero ? 2'd1 : radius_too_big_q ? 2'd2
-                            : (end_off_x_q && end_off_y_q) ? 2'd3 : 2'd0;
+    // CHECK: a - b > t, as the sign of a + ~b + ~t + 1 = a - b - t - 1, with
+    // the three operands reduced to two by a carry-save step (one LUT level
+    // before a single carry chain)
+    localparam integer CHECK_W = SQUARE_W + 3;
+    function exceeds;
+        input [SQUARE_W:0] a;
+        input [SQUARE_W:0] b;
+        input [W:0]        t;
+        reg   [CHECK_W-1:0] first, second, third, half_sum, carries, total;
+        begin
+            first    = {2'b00, a};
+            second   = ~{2'b00, b};
+            third    = ~{{(CHECK_W-W-1){1'b0}}, t};
+            half_sum = first ^ second ^ third;
+            carries  = {((first[CHECK_W-2:0] & second[CHECK_W-2:0]) |
+                         (first[CHECK_W-2:0] & third[CHECK_W-2:0]) |
+                         (second[CHECK_W-2:0] & third[CHECK_W-2:0])), 1'b1};
+            total    = half_sum + carries;
+            exceeds  = !total[CHECK_W-1];
+        end
+    endfunction
 
-    // run-stage handshake (defined below)
+    wire [1:0] decide_error = radius_zero_q ? 2'd1 : radius_too_big_q ? 2'd2
+                            : (end_outside_q || end_inside_q) ? 2'd3 : 2'd0;
+    wire [1:0] start_quad   = quadrant_of(cmd_cw_q, cmd_xs_q, cmd_ys_q);
+    wire [1:0] end_quad     = quadrant_of(cmd_cw_q, cmd_xe_q, cmd_ye_q);
+    wire       start_u_is_x = (start_quad[0] == cmd_cw_q);
+    wire       end_u_is_x   = (end_quad[0] == cmd_cw_q);
+
+    // frame set-up: armed flag from the progress order
+    wire       init_first_octant = (pend_ve_q <= pend_ue_q);
+    wire       init_v_before = (pend_v_q < pend_ve_q) ||
+                               (pend_v_q == pend_ve_q && pend_u_q > pend_ue_q);
+    wire       init_u_before = (pend_u_q > pend_ue_q) ||
+                               (pend_u_q == pend_ue_q && pend_v_q < pend_ve_q);
+    wire       init_before   = init_first_octant ? init_v_before : init_u_before;
+    wire [DATA_W-1:0] init_u = {2'b00, pend_u_q};
+    wire [DATA_W-1:0] init_v = {2'b00, pend_v_q};
+
+    // run-stage handshake with the pending slot (defined below)
     wire       load;
 
     always @(posedge clk) begin
         if (rst || abort_now) begin
             hold_q <= 1'b0;
-        end else if (validator_state_q == STATE_DECIDE && decide_error == 2'd0) begin
+        end else if (validator_state_q == STATE_INIT) begin
             hold_q <= 1'b1;
         end else if (load) begin
             hold_q <= 1'b0;
@@ -302,14 +298,21 @@ module halfpoint_arc #(
     always @(posedge clk) begin
         if (rst || abort_now) begin
             validator_state_q <= STATE_IDLE;
+            square_count_q    <= 6'd0;
         end else begin
             case (validator_state_q)
-                STATE_IDLE:   if (accept) validator_state_q <= STATE_SQUARE;
-                STATE_SQUARE: if (last_operand && bit_q == 5'd0 && second_pass_q)
-                                  validator_state_q <= STATE_CHECK;
-                STATE_CHECK:  if (operand_q == 2'd3) validator_state_q <= STATE_DECIDE;
-                STATE_DECIDE: validator_state_q <= (decide_error != 2'd0) ? STATE_IDLE
-                                                                          : STATE_HOLD;
+                STATE_IDLE: if (accept) begin
+                    validator_state_q <= STATE_SQUARE;
+                    square_count_q    <= 6'd0;
+                end
+                STATE_SQUARE: begin
+                    square_count_q <= square_count_q + 6'd1;
+                    if (square_count_q == SQUARE_LAST[5:0]) validator_state_q <= STATE_SUM;
+                end
+                STATE_SUM:    validator_state_q <= STATE_CHECK;
+                STATE_CHECK:  validator_state_q <= STATE_DECIDE;
+                STATE_DECIDE: validator_state_q <= (decide_error != 2'd0) ? STATE_IDLE : STATE_INIT;
+                STATE_INIT:   validator_state_q <= STATE_HOLD;
                 STATE_HOLD:   if (load) validator_state_q <= STATE_IDLE;
                 default:      validator_state_q <= STATE_IDLE;
             endcase
@@ -319,69 +322,83 @@ module halfpoint_arc #(
     // validator datapath (no reset needed: qualified by validator_state_q)
     always @(posedge clk) begin
         if (accept) begin
-            cmd_cw_q      <= s_cw;
-            cmd_xs_q      <= s_xs;
-            cmd_ys_q      <= s_ys;
-            cmd_xe_q      <= s_xe;
-            cmd_ye_q      <= s_ye;
-            second_pass_q <= 1'b0;
-            bit_q         <= BIT_MSB;
-            operand_q     <= 2'd0;
-            // the first operand: xs if its sign bit is set, negative
-            term_q        <= s_xs[W-1] ? ~{s_xs[W-1], s_xs} : {TERM_W{1'b0}};
-            carry_q       <= s_xs[W-1];
-            bit_msb_q     <= 1'b1;
-        end
-        if (validator_state_q == STATE_SQUARE || checking) begin
-            term_q        <= term_next;
-            carry_q       <= carry_next;
+            cmd_cw_q <= s_cw;
+            cmd_xs_q <= s_xs;
+            cmd_ys_q <= s_ys;
+            cmd_xe_q <= s_xe;
+            cmd_ye_q <= s_ye;
+            abs_xs_q <= magnitude(s_xs);
+            abs_ys_q <= magnitude(s_ys);
+            abs_xe_q <= magnitude(s_xe);
+            abs_ye_q <= magnitude(s_ye);
+            square_xs_q <= {{W{1'b0}}, magnitude(s_xs)};
+            square_ys_q <= {{W{1'b0}}, magnitude(s_ys)};
+            square_xe_q <= {{W{1'b0}}, magnitude(s_xe)};
+            square_ye_q <= {{W{1'b0}}, magnitude(s_ye)};
         end
         if (validator_state_q == STATE_SQUARE) begin
-            accumulator_q <= sum;
-            second_pass_q <= second_next;
-            bit_q         <= bit_next;
-            operand_q     <= operand_next;
-            bit_msb_q     <= (bit_next == BIT_MSB);
-            if (second_pass_q && first_operand && bit_msb_q)
-                radius_too_big_q <= (accumulator_q > RADIUS_SQUARE_MAX);
+            square_xs_q <= square_step(square_xs_q, abs_xs_q);
+            square_ys_q <= square_step(square_ys_q, abs_ys_q);
+            square_xe_q <= square_step(square_xe_q, abs_xe_q);
+            square_ye_q <= square_step(square_ye_q, abs_ye_q);
         end
-        if (checking) begin
-            operand_q <= operand_q + 2'd1;
-            if (!operand_q[0]) first_sign_q <= sum_sign;
-            if (operand_q == 2'd1) end_off_x_q <= end_off;
-            if (operand_q == 2'd3) end_off_y_q <= end_off;
+        if (prepare_frame) begin
+            tolerance_q     <= {((abs_xs_q > abs_ys_q) ? abs_xs_q : abs_ys_q), 1'b0};
+            radius_zero_q   <= (abs_xs_q == {W{1'b0}}) && (abs_ys_q == {W{1'b0}});
+            pend_quad_q     <= start_quad;
+            pend_end_quad_q <= end_quad;
+            pend_u_q        <= start_u_is_x ? abs_xs_q : abs_ys_q;
+            pend_v_q        <= start_u_is_x ? abs_ys_q : abs_xs_q;
+            pend_ue_q       <= end_u_is_x ? abs_xe_q : abs_ye_q;
+            pend_ve_q       <= end_u_is_x ? abs_ye_q : abs_xe_q;
+        end
+        if (prepare_terms) begin
+            // F = 0 at the start point
+            pend_d2_add_b_q       <= TWO_D - (init_u << 1);                 // Q1
+            pend_d2_add_c_q       <= (init_v << 1) + THREE_D;               // Q2
+            pend_f_add_b_q        <= ONE_D - (init_u << 1);                 // G1
+            init_v_times3_q       <= init_v + (init_v << 1);
+            init_v_minus_u_twice_q <= (init_v - init_u) << 1;
+            pend_first_octant_q   <= init_first_octant;
+            pend_armed_q          <= !((pend_quad_q == pend_end_quad_q) && !init_before);
+            pend_ue_plus1_q       <= pend_ue_q + ONE_W;
+            pend_ue_minus1_q      <= pend_ue_q - ONE_W;
+            pend_ve_minus1_q      <= pend_ve_q - ONE_W;
+            pend_ve_zero_q        <= (pend_ve_q == {W{1'b0}});
+            pend_ve_one_q         <= (pend_ve_q == ONE_W);
+            pend_ue_zero_q        <= (pend_ue_q == {W{1'b0}});
+            pend_ue_one_q         <= (pend_ue_q == ONE_W);
+            pend_u_one_q          <= (pend_u_q == ONE_W);
+            pend_v_gt_ve_q        <= (pend_v_q > pend_ve_q);
+            pend_v_eq_ve_q        <= (pend_v_q == pend_ve_q);
+            pend_u_lt_ue_q        <= (pend_u_q < pend_ue_q);
+            pend_u_eq_ue_q        <= (pend_u_q == pend_ue_q);
+            pend_v_lt_ue_q        <= (pend_v_q < pend_ue_q);
+            pend_v_eq_ue_q        <= (pend_v_q == pend_ue_q);
+        end
+        if (prepare_sums) begin
+            pend_d1_q             <= init_v + pend_f_add_b_q;               // F - 2u + v + 1
+            pend_d2_q             <= {1'b0, pend_v_q, 1'b1} - init_u;      // F - u + 2v + 1
+            pend_d_add_a_q        <= init_v_minus_u_twice_q + FIVE_D;       // P3
+            pend_f_add_a_q        <= init_v_minus_u_twice_q + TWO_D;        // G3
+            pend_d2_add_b_cross_q <= ZERO_D - init_v_times3_q;              // Q4
+            pend_ue_plus2_q       <= pend_ue_plus1_q + ONE_W;
+            pend_ue_minus2_q      <= pend_ue_minus1_q - ONE_W;
+            pend_ve_minus2_q      <= pend_ve_minus1_q - ONE_W;
+            pend_v_plus1_eq_ve_q  <= !pend_ve_zero_q && (pend_v_q == pend_ve_minus1_q);
+            pend_u_eq_ue_plus1_q  <= (pend_u_q == pend_ue_plus1_q);
+            pend_v_plus1_eq_ue_q  <= (pend_v_q == pend_ue_minus1_q);
+        end
+        if (validator_state_q == STATE_SUM) begin
+            radius_square_q <= {1'b0, square_xs_q} + {1'b0, square_ys_q};
+            end_square_q    <= {1'b0, square_xe_q} + {1'b0, square_ye_q};
+        end
+        if (validator_state_q == STATE_CHECK) begin
+            radius_too_big_q <= ({1'b0, radius_square_q} > RADIUS_SQUARE_MAX);
+            end_outside_q    <= exceeds(end_square_q, radius_square_q, tolerance_q);
+            end_inside_q     <= exceeds(radius_square_q, end_square_q, tolerance_q);
         end
     end
-
-    // ------------------------------------------------------------------
-    // Frame set-up: a validated arc (HOLD) and an idle run stage.  Three
-    // clocks write the run-stage registers, each doing at most one add or
-    // compare per register; the third edge also loads the arc (run_q) when
-    // start_en is high, else the arc waits, prepared, for start_en.
-    //   FRAME: quadrants, u, v; ue and ve into ue_minus2_q / ve_minus2_q
-    //   TERMS: increments from u, v; 3v and 2(v - u) into P4 / P3; flags
-    //   SUMS:  D1, D2, P3, G3, P4, Q4; ue - 2, ve - 2
-    // ------------------------------------------------------------------
-    reg  [1:0] prepare_q;               // 0 FRAME, 1 TERMS, 2 SUMS, 3 prepared
-    wire       run_idle;                // defined with the run stage
-    wire       preparing     = hold_q && run_idle;
-    wire       prepare_frame = preparing && (prepare_q == 2'd0);
-    wire       prepare_terms = preparing && (prepare_q == 2'd1);
-    wire       prepare_sums  = preparing && (prepare_q == 2'd2);
-    assign load = preparing && prepare_q[1] && start_en && !abort_now;
-
-    always @(posedge clk) begin
-        if (rst || abort_now || load) begin
-            prepare_q <= 2'd0;
-        end else if (preparing && prepare_q != 2'd3) begin
-            prepare_q <= prepare_q + 2'd1;
-        end
-    end
-
-    wire [1:0]   start_quad   = quadrant_of(cmd_cw_q, cmd_xs_q, cmd_ys_q);
-    wire [1:0]   end_quad     = quadrant_of(cmd_cw_q, cmd_xe_q, cmd_ye_q);
-    wire         start_u_is_x = (start_quad[0] == cmd_cw_q);
-    wire         end_u_is_x   = (end_quad[0] == cmd_cw_q);
 
     // ------------------------------------------------------------------
     // Run stage
@@ -439,12 +456,11 @@ module halfpoint_arc #(
     wire [DATA_W-1:0] d2_n   = d2_q + d2_add + {{(DATA_W-1){1'b0}}, d2_carry};
 
     // next increments: register + constant, or ~(2v + 1) + constant on a
-    // crossing (u' = v or v + 1, v' = 0; ~(2v + 1) = -2v - 2); see README
+    // crossing (u' = v or v + 1, v' = 0; ~(2v + 1) = -2v - 2); see README;
+    // one adder per register, its operands multiplexed
     // registers whose term is -2u gain 2 on every move that lowers u
     wire [DATA_W-1:0] u_term_add = u_down ? TWO_D : ZERO_D;
     wire [DATA_W-1:0] v_crossed  = ~v_twice_plus1;
-    // one adder per register: on a crossing ~(2v + 1) plus a constant,
-    // else the register plus a constant
     wire [DATA_W-1:0] d_add_a_n  = (crossing ? v_crossed : d_add_a_q)
         + (crossing ? (move_b ? SEVEN_D : FIVE_D) : (move_a ? FOUR_D : TWO_D));
     wire [DATA_W-1:0] d2_add_b_n = (crossing ? v_crossed : d2_add_b_q)
@@ -538,7 +554,7 @@ module halfpoint_arc #(
     wire stop   = move_b ? stop_b : move_a ? stop_a : stop_c;
     wire last = advance && stop;
 
-    assign run_idle = !run_q;
+    assign load = hold_q && start_en && !abort_now && (!run_q || last);
 
     assign running = run_q;
     assign pending = hold_q;
@@ -559,65 +575,45 @@ module halfpoint_arc #(
         end
     end
 
-    // frame set-up terms (TERMS and SUMS read the registers FRAME and TERMS wrote)
-    wire [W-1:0]      setup_ue = ue_minus2_q;               // ue, until SUMS
-    wire [W-1:0]      setup_ve = ve_minus2_q;               // ve, until SUMS
-    wire [W-1:0]      setup_ue_plus1 = setup_ue + ONE_W;
-    wire [W-1:0]      setup_v_plus1  = v_q + ONE_W;
-    wire [DATA_W-1:0] setup_u = {2'b00, u_q};
-    wire [DATA_W-1:0] setup_v = {2'b00, v_q};
-    wire setup_first_octant = (setup_ve <= setup_ue);
-    wire setup_v_before = (v_q < setup_ve) || (v_q == setup_ve && u_q > setup_ue);
-    wire setup_u_before = (u_q > setup_ue) || (u_q == setup_ue && v_q < setup_ve);
-    wire setup_before   = setup_first_octant ? setup_v_before : setup_u_before;
-    wire setup_ve_zero  = (setup_ve == {W{1'b0}});
-
     always @(posedge clk) begin
-        if (prepare_frame) begin
-            cw_q        <= cmd_cw_q;
-            quad_q      <= start_quad;
-            end_quad_q  <= end_quad;
-            u_q         <= magnitude(start_u_is_x ? cmd_xs_q : cmd_ys_q);
-            v_q         <= magnitude(start_u_is_x ? cmd_ys_q : cmd_xs_q);
-            ue_minus2_q <= magnitude(end_u_is_x ? cmd_xe_q : cmd_ye_q);
-            ve_minus2_q <= magnitude(end_u_is_x ? cmd_ye_q : cmd_xe_q);
-        end
-        if (prepare_terms) begin
-            // F = 0 at the start point
-            d2_add_b_q       <= TWO_D - (setup_u << 1);                 // Q1
-            d2_add_c_q       <= (setup_v << 1) + THREE_D;               // Q2
-            f_add_b_q        <= ONE_D - (setup_u << 1);                 // G1
-            d2_add_b_cross_q <= setup_v + (setup_v << 1);               // 3v, until SUMS
-            d_add_a_q        <= (setup_v - setup_u) << 1;               // 2(v - u), until SUMS
-            first_octant_q   <= setup_first_octant;
-            armed_q          <= !((quad_q == end_quad_q) && !setup_before);
-            ue_plus1_q       <= setup_ue_plus1;
-            ue_plus2_q       <= setup_ue + TWO_W;
-            ve_zero_q        <= setup_ve_zero;
-            ve_one_q         <= (setup_ve == ONE_W);
-            ue_zero_q        <= (setup_ue == {W{1'b0}});
-            ue_one_q         <= (setup_ue == ONE_W);
-            u_one_q          <= (u_q == ONE_W);
-            v_gt_ve_q        <= (v_q > setup_ve);
-            v_eq_ve_q        <= (v_q == setup_ve);
-            v_plus1_eq_ve_q  <= (setup_v_plus1 == setup_ve);
-            u_lt_ue_q        <= (u_q < setup_ue);
-            u_eq_ue_q        <= (u_q == setup_ue);
-            u_eq_ue_plus1_q  <= (u_q == setup_ue_plus1);
-            v_lt_ue_q        <= (v_q < setup_ue);
-            v_eq_ue_q        <= (v_q == setup_ue);
-            v_plus1_eq_ue_q  <= (setup_v_plus1 == setup_ue);
-        end
-        if (prepare_sums) begin
-            d1_q             <= setup_v + f_add_b_q;                    // F - 2u + v + 1
-            d2_q             <= v_twice_plus1 - setup_u;                // F - u + 2v + 1
-            d_add_a_q        <= d_add_a_q + FIVE_D;                     // P3
-            f_add_a_q        <= d_add_a_q + TWO_D;                      // G3
-            d2_add_b_cross_q <= ZERO_D - d2_add_b_cross_q;              // Q4
-            ue_minus2_q      <= ue_minus2_q - TWO_W;
-            ve_minus2_q      <= ve_minus2_q - TWO_W;
-        end
-        if (advance) begin
+        if (load) begin
+            cw_q             <= cmd_cw_q;
+            quad_q           <= pend_quad_q;
+            end_quad_q       <= pend_end_quad_q;
+            u_q              <= pend_u_q;
+            v_q              <= pend_v_q;
+            ue_plus1_q       <= pend_ue_plus1_q;
+            ve_zero_q        <= pend_ve_zero_q;
+            first_octant_q   <= pend_first_octant_q;
+            armed_q          <= pend_armed_q;
+            ue_plus2_q       <= pend_ue_plus2_q;
+            ue_minus2_q      <= pend_ue_minus2_q;
+            ve_minus2_q      <= pend_ve_minus2_q;
+            ve_one_q         <= pend_ve_one_q;
+            ue_zero_q        <= pend_ue_zero_q;
+            ue_one_q         <= pend_ue_one_q;
+            u_one_q          <= pend_u_one_q;
+            v_gt_ve_q        <= pend_v_gt_ve_q;
+            v_eq_ve_q        <= pend_v_eq_ve_q;
+            v_plus1_eq_ve_q  <= pend_v_plus1_eq_ve_q;
+            u_lt_ue_q        <= pend_u_lt_ue_q;
+            u_eq_ue_q        <= pend_u_eq_ue_q;
+            u_eq_ue_plus1_q  <= pend_u_eq_ue_plus1_q;
+            v_lt_ue_q        <= pend_v_lt_ue_q;
+            v_eq_ue_q        <= pend_v_eq_ue_q;
+            v_plus1_eq_ue_q  <= pend_v_plus1_eq_ue_q;
+            point_x_q        <= cmd_xs_q;
+            point_y_q        <= cmd_ys_q;
+            d1_q             <= pend_d1_q;
+            d2_q             <= pend_d2_q;
+            f_q              <= {DATA_W{1'b0}};
+            d_add_a_q        <= pend_d_add_a_q;
+            d2_add_b_q       <= pend_d2_add_b_q;
+            d2_add_c_q       <= pend_d2_add_c_q;
+            d2_add_b_cross_q <= pend_d2_add_b_cross_q;
+            f_add_b_q        <= pend_f_add_b_q;
+            f_add_a_q        <= pend_f_add_a_q;
+        end else if (advance) begin
             quad_q           <= quad_n;
             u_q              <= u_n;
             v_q              <= v_n;
@@ -632,8 +628,11 @@ module halfpoint_arc #(
             v_lt_ue_q        <= v_lt_ue_n;
             v_eq_ue_q        <= v_eq_ue_n;
             v_plus1_eq_ue_q  <= v_plus1_eq_ue_n;
+            point_x_q        <= point_x_n;
+            point_y_q        <= point_y_n;
             d1_q             <= d1_n;
             d2_q             <= d2_n;
+            f_q              <= f_q + f_add;
             d_add_a_q        <= d_add_a_n;
             d2_add_b_q       <= d2_add_b_n;
             d2_add_c_q       <= d2_add_c_n;
@@ -644,29 +643,23 @@ module halfpoint_arc #(
     end
 
     // ------------------------------------------------------------------
-    // Registered outputs; x, y and f are the run stage's point and F
-    // registers themselves (an arc is loaded only into an idle run stage, so
-    // they change only with a move or a load)
+    // Registered outputs
     // ------------------------------------------------------------------
     wire rejecting = (validator_state_q == STATE_DECIDE) && (decide_error != 2'd0) && !abort_now;
 
-    assign x = point_x_q;
-    assign y = point_y_q;
-    assign f = f_q;
-
     always @(posedge clk) begin
         if (rst) begin
-            move      <= 1'b0;
-            step_x    <= 1'b0;
-            step_y    <= 1'b0;
-            dir_x     <= 1'b0;
-            dir_y     <= 1'b0;
-            point_x_q <= {W{1'b0}};
-            point_y_q <= {W{1'b0}};
-            f_q       <= {DATA_W{1'b0}};
-            done      <= 1'b0;
-            reject    <= 1'b0;
-            err_code  <= 2'd0;
+            move     <= 1'b0;
+            step_x   <= 1'b0;
+            step_y   <= 1'b0;
+            dir_x    <= 1'b0;
+            dir_y    <= 1'b0;
+            x        <= {W{1'b0}};
+            y        <= {W{1'b0}};
+            f        <= {DATA_W{1'b0}};
+            done     <= 1'b0;
+            reject   <= 1'b0;
+            err_code <= 2'd0;
         end else begin
             move   <= advance;
             step_x <= advance && x_steps;
@@ -674,13 +667,13 @@ module halfpoint_arc #(
             if (advance && x_steps) dir_x <= x_direction;
             if (advance && y_steps) dir_y <= y_direction;
             if (advance) begin
-                point_x_q <= point_x_n;
-                point_y_q <= point_y_n;
-                f_q       <= f_q + f_add;
+                x <= point_x_n;
+                y <= point_y_n;
+                f <= f_q + f_add;
             end else if (load) begin
-                point_x_q <= cmd_xs_q;
-                point_y_q <= cmd_ys_q;
-                f_q       <= {DATA_W{1'b0}};
+                x <= cmd_xs_q;
+                y <= cmd_ys_q;
+                f <= {DATA_W{1'b0}};
             end
             done   <= last;
             reject <= rejecting;

@@ -391,29 +391,12 @@ def full_circle_stats(radii, cw: int):
 # Cycle-accurate model of rtl/halfpoint_arc.v at its ports.
 # --------------------------------------------------------------------------
 
-# Validator states (``ArcUnitModel.vstate``): idle; the two squaring passes (R^2,
-# then F_e = xe^2 + ye^2 - R^2, by shift-and-add with one adder); the four
-# tolerance checks; the decision; and HOLD: validated, waiting for the run stage.
-V_IDLE, V_SQ, V_CHK, V_DEC, V_HOLD = range(5)
-
-# Clocks of the tolerance checks (F_e -/+ 2xs, F_e -/+ 2ys through the one adder).
-CHECK_CLOCKS = 4
-# Clocks from a validated arc meeting an idle run stage to its load edge inclusive:
-# the frame set-up writes the run-stage registers in three steps, the third edge
-# also loads (starts) the arc if start_en is high.  An arc -> arc boundary thus
-# costs PREPARE_CLOCKS idle clocks between the last move and the next first move.
-PREPARE_CLOCKS = 3
-
-
-def square_clocks(width: int) -> int:
-    """Clocks of the two squaring passes: 2 per bit for R^2, 4 per bit for F_e."""
-    return 6 * width
+V_IDLE, V_SQ, V_SUM, V_CHK, V_DEC, V_INIT, V_HOLD = range(7)
 
 
 def validate_latency(width: int) -> int:
-    """Clocks from the accepting clock until the first clock in HOLD (validated):
-    the squaring passes, the checks, the decision, and the edge into HOLD."""
-    return square_clocks(width) + CHECK_CLOCKS + 2
+    """Clocks from the accepting edge until the command is ready to load."""
+    return width + 5
 
 
 @dataclass
@@ -462,7 +445,6 @@ class ArcUnitModel:
     def reset(self) -> None:
         self.vstate = V_IDLE
         self.vcount = 0
-        self.prep = 0
         self.vcmd: tuple[int, int, int, int, int] | None = None
         self.verr = ERR_NONE
         self.run: ArcRun | None = None
@@ -486,12 +468,11 @@ class ArcUnitModel:
         o.move = o.step_x = o.step_y = o.done = o.reject = 0
         if i.abort:
             self.run = None
-            self.vstate, self.prep = V_IDLE, 0
+            self.vstate = V_IDLE
             return
 
-        # Run stage: one move when enabled.  A new arc is set up only in a run
-        # stage that was idle before this edge (not at the edge of a last move).
-        idle_before = self.run is None
+        # Run stage: one move when enabled.
+        finishing = False
         if self.run is not None and i.en:
             mv = self.run.move()
             o.move = 1
@@ -504,8 +485,9 @@ class ArcUnitModel:
             if mv.last:
                 o.done = 1
                 self.run = None
+                finishing = True
 
-        # Validator; a validated arc is prepared into an idle run stage and loaded.
+        # Validator and pending slot.
         st = self.vstate
         if st == V_IDLE:
             if i.s_valid:
@@ -513,12 +495,12 @@ class ArcUnitModel:
                 self.vstate, self.vcount = V_SQ, 0
         elif st == V_SQ:
             self.vcount += 1
-            if self.vcount == square_clocks(self.width):
-                self.vstate, self.vcount = V_CHK, 0
+            if self.vcount == self.width:
+                self.vstate = V_SUM
+        elif st == V_SUM:
+            self.vstate = V_CHK
         elif st == V_CHK:
-            self.vcount += 1
-            if self.vcount == CHECK_CLOCKS:
-                self.vstate = V_DEC
+            self.vstate = V_DEC
         elif st == V_DEC:
             cw, xs, ys, xe, ye = self.vcmd
             code = validate(xs, ys, xe, ye, self.width)
@@ -526,13 +508,13 @@ class ArcUnitModel:
                 o.reject, o.err_code = 1, code
                 self.vstate = V_IDLE
             else:
-                self.vstate, self.prep = V_HOLD, 0
-        elif st == V_HOLD and idle_before:
-            # frame set-up into the idle run stage, then the load edge
-            if self.prep < PREPARE_CLOCKS - 1:
-                self.prep += 1
-            elif i.start_en:
+                self.vstate = V_INIT
+        elif st == V_INIT:
+            self.vstate = V_HOLD
+        elif st == V_HOLD:
+            if self.run is None and i.start_en:
                 cw, xs, ys, xe, ye = self.vcmd
                 self.run = ArcRun(xs, ys, xe, ye, cw, self.width)
-                o.x, o.y, o.f = xs, ys, 0
-                self.vstate, self.prep = V_IDLE, 0
+                if not finishing:
+                    o.x, o.y, o.f = xs, ys, 0
+                self.vstate = V_IDLE

@@ -63,7 +63,7 @@ from dataclasses import dataclass
 
 from . import encoding as enc
 from . import profile as pf
-from .arc import PREPARE_CLOCKS, V_HOLD, V_IDLE
+from .arc import V_HOLD, V_IDLE
 from .core import CoreInputs, CoreModel, HeadView, ProgramRun
 from .line import L_HOLD, L_IDLE
 from .rules import wrap
@@ -172,8 +172,6 @@ def _static(m: CoreModel, more: bool):
     av, lv = arc.vstate, line.vstate
     if av not in (V_IDLE, V_HOLD) or lv not in (L_IDLE, L_HOLD):
         return False
-    if av == V_HOLD and arc.run is None and arc.prep < PREPARE_CLOCKS - 1:
-        return False                    # the arc's frame set-up into its idle run stage
     if (av == V_HOLD or lv == L_HOLD) and (not m.accepted or running is None):
         return False
     if arc.out.reject or line.out.reject:
