@@ -189,8 +189,15 @@ module halfpoint_arc #(
     reg                 cmd_cw_q;
     reg  [W-1:0]        cmd_xs_q, cmd_ys_q, cmd_xe_q, cmd_ye_q;   // raw coordinates
     reg  [W-1:0]        abs_xs_q, abs_ys_q, abs_xe_q, abs_ye_q;   // magnitudes
-    reg  [SQUARE_W-1:0] square_xs_q, square_ys_q, square_xe_q, square_ye_q;
+    // R^2 = xs^2 + ys^2 and |E|^2 = xe^2 + ye^2, each by one shift-and-add
+    // register {high W+1 bits, low W bits}: the low half starts as |xs|
+    // (|xe|) and shifts the product's bits in as the multiplier's bits go
+    // out; the multiplier bits of |ys| (|ye|) shift out of multiplier_*_q.
+    // Each clock adds 0, |xs|, |ys| or both to the high half: that sum is
+    // below 2^W + 2^W, so after the shift the high half stays below 2^W and
+    // the pair ends as the sum of squares (< 2^(2W-1) + 2^(2W-2)), 2W+1 bits.
     reg  [SQUARE_W:0]   radius_square_q, end_square_q;            // R^2 and |E|^2
+    reg  [W-1:0]        multiplier_ys_q, multiplier_ye_q;
     reg  [W:0]          tolerance_q;                              // 2 max(|xs|, |ys|)
     // the checks: R = 0, R^2 too big, |E|^2 - R^2 > tolerance, R^2 - |E|^2 > tolerance
     reg                 radius_zero_q, radius_too_big_q, end_outside_q, end_inside_q;
@@ -223,22 +230,28 @@ module halfpoint_arc #(
         end
     endfunction
 
-    // one shift-and-add squaring step: P = {hi, lo}; hi += lo[0] ? a : 0
-    function [SQUARE_W-1:0] square_step;
-        input [SQUARE_W-1:0] p;
-        input [W-1:0]        a;
-        reg   [W:0]          s;
+    // one shift-and-add step of a sum of two squares: P = {hi, lo};
+    // hi += (lo[0] ? a : 0) + (b_bit ? b : 0), then P shifts right by one
+    function [SQUARE_W:0] squares_step;
+        input [SQUARE_W:0] p;
+        input [W-1:0]      a;
+        input              b_bit;
+        input [W-1:0]      b;
+        reg   [W+1:0]      s;
         begin
-            s = {1'b0, p[SQUARE_W-1:W]} + (p[0] ? {1'b0, a} : {(W+1){1'b0}});
-            square_step = {s, p[W-1:1]};
+            s = {1'b0, p[SQUARE_W:W]} + (p[0] ? {2'b00, a} : {(W+2){1'b0}})
+                + (b_bit ? {2'b00, b} : {(W+2){1'b0}});
+            squares_step = {s, p[W-1:1]};
         end
     endfunction
 
     // The validator's work is spread so that each clock does at most one
-    // add or compare: the frame set-up of the pending slot runs in the first
-    // three squaring clocks (W >= 8 of them; the pending slot is free then, as
-    // a command is taken only when the previous one has left it), the two
-    // squares are summed in SUM, and CHECK registers the three checks.
+    // add (of three operands, in SQUARE) or compare: the frame set-up of the
+    // pending slot runs in the first three squaring clocks (W >= 8 of them;
+    // the pending slot is free then, as a command is taken only when the
+    // previous one has left it), the squaring registers end as the sums of
+    // squares (SUM is an idle clock, kept for the timing at the ports), and
+    // CHECK registers the three checks.
     wire       prepare_frame = (validator_state_q == STATE_SQUARE) && (square_count_q == 6'd0);
     wire       prepare_terms = (validator_state_q == STATE_SQUARE) && (square_count_q == 6'd1);
     wire       prepare_sums  = (validator_state_q == STATE_SQUARE) && (square_count_q == 6'd2);
@@ -331,16 +344,18 @@ module halfpoint_arc #(
             abs_ys_q <= magnitude(s_ys);
             abs_xe_q <= magnitude(s_xe);
             abs_ye_q <= magnitude(s_ye);
-            square_xs_q <= {{W{1'b0}}, magnitude(s_xs)};
-            square_ys_q <= {{W{1'b0}}, magnitude(s_ys)};
-            square_xe_q <= {{W{1'b0}}, magnitude(s_xe)};
-            square_ye_q <= {{W{1'b0}}, magnitude(s_ye)};
+            radius_square_q <= {{(W+1){1'b0}}, magnitude(s_xs)};
+            end_square_q    <= {{(W+1){1'b0}}, magnitude(s_xe)};
+            multiplier_ys_q <= magnitude(s_ys);
+            multiplier_ye_q <= magnitude(s_ye);
         end
         if (validator_state_q == STATE_SQUARE) begin
-            square_xs_q <= square_step(square_xs_q, abs_xs_q);
-            square_ys_q <= square_step(square_ys_q, abs_ys_q);
-            square_xe_q <= square_step(square_xe_q, abs_xe_q);
-            square_ye_q <= square_step(square_ye_q, abs_ye_q);
+            radius_square_q <= squares_step(radius_square_q, abs_xs_q, multiplier_ys_q[0],
+                                            abs_ys_q);
+            end_square_q    <= squares_step(end_square_q, abs_xe_q, multiplier_ye_q[0],
+                                            abs_ye_q);
+            multiplier_ys_q <= multiplier_ys_q >> 1;
+            multiplier_ye_q <= multiplier_ye_q >> 1;
         end
         if (prepare_frame) begin
             tolerance_q     <= {((abs_xs_q > abs_ys_q) ? abs_xs_q : abs_ys_q), 1'b0};
@@ -388,10 +403,6 @@ module halfpoint_arc #(
             pend_v_plus1_eq_ve_q  <= !pend_ve_zero_q && (pend_v_q == pend_ve_minus1_q);
             pend_u_eq_ue_plus1_q  <= (pend_u_q == pend_ue_plus1_q);
             pend_v_plus1_eq_ue_q  <= (pend_v_q == pend_ue_minus1_q);
-        end
-        if (validator_state_q == STATE_SUM) begin
-            radius_square_q <= {1'b0, square_xs_q} + {1'b0, square_ys_q};
-            end_square_q    <= {1'b0, square_xe_q} + {1'b0, square_ye_q};
         end
         if (validator_state_q == STATE_CHECK) begin
             radius_too_big_q <= ({1'b0, radius_square_q} > RADIUS_SQUARE_MAX);
