@@ -187,7 +187,9 @@ module halfpoint_arc #(
     reg                 hold_q;
     reg  [5:0]          square_count_q;
     reg                 cmd_cw_q;
-    reg  [W-1:0]        cmd_xs_q, cmd_ys_q, cmd_xe_q, cmd_ye_q;   // raw coordinates
+    // raw start point (the end point is kept as magnitudes and its quadrant,
+    // pend_end_quad_q, taken at the accepting edge)
+    reg  [W-1:0]        cmd_xs_q, cmd_ys_q;
     reg  [W-1:0]        abs_xs_q, abs_ys_q, abs_xe_q, abs_ye_q;   // magnitudes
     // R^2 = xs^2 + ys^2 and |E|^2 = xe^2 + ye^2, each by one shift-and-add
     // register {high W+1 bits, low W bits}: the low half starts as |xs|
@@ -281,9 +283,8 @@ module halfpoint_arc #(
     wire [1:0] decide_error = radius_zero_q ? 2'd1 : radius_too_big_q ? 2'd2
                             : (end_outside_q || end_inside_q) ? 2'd3 : 2'd0;
     wire [1:0] start_quad   = quadrant_of(cmd_cw_q, cmd_xs_q, cmd_ys_q);
-    wire [1:0] end_quad     = quadrant_of(cmd_cw_q, cmd_xe_q, cmd_ye_q);
     wire       start_u_is_x = (start_quad[0] == cmd_cw_q);
-    wire       end_u_is_x   = (end_quad[0] == cmd_cw_q);
+    wire       end_u_is_x   = (pend_end_quad_q[0] == cmd_cw_q);
 
     // frame set-up: armed flag from the progress order
     wire       init_first_octant = (pend_ve_q <= pend_ue_q);
@@ -338,8 +339,9 @@ module halfpoint_arc #(
             cmd_cw_q <= s_cw;
             cmd_xs_q <= s_xs;
             cmd_ys_q <= s_ys;
-            cmd_xe_q <= s_xe;
-            cmd_ye_q <= s_ye;
+            // the pending slot is free at an accepting edge (the previous
+            // command has left it), so the end quadrant goes there at once
+            pend_end_quad_q <= quadrant_of(s_cw, s_xe, s_ye);
             abs_xs_q <= magnitude(s_xs);
             abs_ys_q <= magnitude(s_ys);
             abs_xe_q <= magnitude(s_xe);
@@ -361,7 +363,6 @@ module halfpoint_arc #(
             tolerance_q     <= {((abs_xs_q > abs_ys_q) ? abs_xs_q : abs_ys_q), 1'b0};
             radius_zero_q   <= (abs_xs_q == {W{1'b0}}) && (abs_ys_q == {W{1'b0}});
             pend_quad_q     <= start_quad;
-            pend_end_quad_q <= end_quad;
             pend_u_q        <= start_u_is_x ? abs_xs_q : abs_ys_q;
             pend_v_q        <= start_u_is_x ? abs_ys_q : abs_xs_q;
             pend_ue_q       <= end_u_is_x ? abs_xe_q : abs_ye_q;
