@@ -32,11 +32,12 @@
 // End detection compares (u, v) with the end point's frame in its quadrant's
 // progress order (see README, "Termination contract").
 //
-// Register names: the increments P1..P5, Q1, Q2, Q4, G1..G3 of the README's
-// pipeline table are named after what they add to and after which move:
-// d1_add_b (P1), d1_add_c (P2), d_add_a (P3, to D1 and D2), d1_add_b_cross
-// (P4), d_add_a_cross (P5), d2_add_b (Q1), d2_add_c (Q2), d2_add_b_cross
-// (Q4), f_add_b (G1), f_add_c (G2), f_add_a (G3).  Registers end in _q, the
+// Register names: of the increments P1..P5, Q1, Q2, Q4, G1..G3 of the README's
+// pipeline table six are registers, named after what they add to and after
+// which move: d_add_a (P3, to D1 and D2), d2_add_b (Q1), d2_add_c (Q2),
+// d2_add_b_cross (Q4), f_add_b (G1), f_add_a (G3); the other five come from
+// them and from v through the adders' carry-in: P1 = Q1 + 1, P4 = Q4 + 1,
+// G2 = 2v + 1 (v_q with a 1 appended), P2 = G2 + 1, P5 = ~v + 1.  Registers end in _q, the
 // value they take at the next edge in _n; pend_* is the pending slot, quad
 // a quadrant (0..3 = I..IV), ue/ve the end point in its quadrant's frame,
 // and a flag such as v_plus1_eq_ue_q holds "v + 1 == ue" for the current v.
@@ -135,9 +136,7 @@ module halfpoint_arc #(
     localparam [DATA_W-1:0] THREE_D       = {{(DATA_W-4){1'b0}}, 4'd3};
     localparam [DATA_W-1:0] FOUR_D        = {{(DATA_W-4){1'b0}}, 4'd4};
     localparam [DATA_W-1:0] FIVE_D        = {{(DATA_W-4){1'b0}}, 4'd5};
-    localparam [DATA_W-1:0] SIX_D         = {{(DATA_W-4){1'b0}}, 4'd6};
-    localparam [DATA_W-1:0] EIGHT_D       = {{(DATA_W-4){1'b0}}, 4'd8};
-    localparam [DATA_W-1:0] MINUS_ONE_D   = {DATA_W{1'b1}};
+    localparam [DATA_W-1:0] SEVEN_D       = {{(DATA_W-4){1'b0}}, 4'd7};
     localparam [DATA_W-1:0] MINUS_THREE_D = ~TWO_D;
     localparam [W-1:0]      ONE_W         = {{(W-1){1'b0}}, 1'b1};
     localparam integer SQUARE_LAST = W - 1;
@@ -188,10 +187,19 @@ module halfpoint_arc #(
     reg                 hold_q;
     reg  [5:0]          square_count_q;
     reg                 cmd_cw_q;
-    reg  [W-1:0]        cmd_xs_q, cmd_ys_q, cmd_xe_q, cmd_ye_q;   // raw coordinates
+    // raw start point (the end point is kept as magnitudes and its quadrant,
+    // pend_end_quad_q, taken at the accepting edge)
+    reg  [W-1:0]        cmd_xs_q, cmd_ys_q;
     reg  [W-1:0]        abs_xs_q, abs_ys_q, abs_xe_q, abs_ye_q;   // magnitudes
-    reg  [SQUARE_W-1:0] square_xs_q, square_ys_q, square_xe_q, square_ye_q;
+    // R^2 = xs^2 + ys^2 and |E|^2 = xe^2 + ye^2, each by one shift-and-add
+    // register {high W+1 bits, low W bits}: the low half starts as |xs|
+    // (|xe|) and shifts the product's bits in as the multiplier's bits go
+    // out; the multiplier bits of |ys| (|ye|) shift out of multiplier_*_q.
+    // Each clock adds 0, |xs|, |ys| or both to the high half: that sum is
+    // below 2^W + 2^W, so after the shift the high half stays below 2^W and
+    // the pair ends as the sum of squares (< 2^(2W-1) + 2^(2W-2)), 2W+1 bits.
     reg  [SQUARE_W:0]   radius_square_q, end_square_q;            // R^2 and |E|^2
+    reg  [W-1:0]        multiplier_ys_q, multiplier_ye_q;
     reg  [W:0]          tolerance_q;                              // 2 max(|xs|, |ys|)
     // the checks: R = 0, R^2 too big, |E|^2 - R^2 > tolerance, R^2 - |E|^2 > tolerance
     reg                 radius_zero_q, radius_too_big_q, end_outside_q, end_inside_q;
@@ -202,10 +210,9 @@ module halfpoint_arc #(
     reg  [1:0]        pend_quad_q, pend_end_quad_q;
     reg  [W-1:0]      pend_u_q, pend_v_q, pend_ue_q, pend_ve_q;
     reg  [DATA_W-1:0] pend_d1_q, pend_d2_q;
-    reg  [DATA_W-1:0] pend_d1_add_b_q, pend_d1_add_c_q, pend_d_add_a_q;
-    reg  [DATA_W-1:0] pend_d1_add_b_cross_q, pend_d_add_a_cross_q;
-    reg  [DATA_W-1:0] pend_d2_add_b_q, pend_d2_add_c_q, pend_d2_add_b_cross_q;
-    reg  [DATA_W-1:0] pend_f_add_b_q, pend_f_add_c_q, pend_f_add_a_q;
+    // the six stored increments (see the run stage)
+    reg  [DATA_W-1:0] pend_d_add_a_q, pend_d2_add_b_q, pend_d2_add_c_q, pend_d2_add_b_cross_q;
+    reg  [DATA_W-1:0] pend_f_add_b_q, pend_f_add_a_q;
     reg  [W-1:0]      pend_ue_plus1_q, pend_ue_minus1_q, pend_ve_minus1_q;
     reg  [W-1:0]      pend_ue_plus2_q, pend_ue_minus2_q, pend_ve_minus2_q;
     reg               pend_armed_q, pend_first_octant_q, pend_ve_zero_q;
@@ -225,22 +232,28 @@ module halfpoint_arc #(
         end
     endfunction
 
-    // one shift-and-add squaring step: P = {hi, lo}; hi += lo[0] ? a : 0
-    function [SQUARE_W-1:0] square_step;
-        input [SQUARE_W-1:0] p;
-        input [W-1:0]        a;
-        reg   [W:0]          s;
+    // one shift-and-add step of a sum of two squares: P = {hi, lo};
+    // hi += (lo[0] ? a : 0) + (b_bit ? b : 0), then P shifts right by one
+    function [SQUARE_W:0] squares_step;
+        input [SQUARE_W:0] p;
+        input [W-1:0]      a;
+        input              b_bit;
+        input [W-1:0]      b;
+        reg   [W+1:0]      s;
         begin
-            s = {1'b0, p[SQUARE_W-1:W]} + (p[0] ? {1'b0, a} : {(W+1){1'b0}});
-            square_step = {s, p[W-1:1]};
+            s = {1'b0, p[SQUARE_W:W]} + (p[0] ? {2'b00, a} : {(W+2){1'b0}})
+                + (b_bit ? {2'b00, b} : {(W+2){1'b0}});
+            squares_step = {s, p[W-1:1]};
         end
     endfunction
 
     // The validator's work is spread so that each clock does at most one
-    // add or compare: the frame set-up of the pending slot runs in the first
-    // three squaring clocks (W >= 8 of them; the pending slot is free then, as
-    // a command is taken only when the previous one has left it), the two
-    // squares are summed in SUM, and CHECK registers the three checks.
+    // add (of three operands, in SQUARE) or compare: the frame set-up of the
+    // pending slot runs in the first three squaring clocks (W >= 8 of them;
+    // the pending slot is free then, as a command is taken only when the
+    // previous one has left it), the squaring registers end as the sums of
+    // squares (SUM is an idle clock, kept for the timing at the ports), and
+    // CHECK registers the three checks.
     wire       prepare_frame = (validator_state_q == STATE_SQUARE) && (square_count_q == 6'd0);
     wire       prepare_terms = (validator_state_q == STATE_SQUARE) && (square_count_q == 6'd1);
     wire       prepare_sums  = (validator_state_q == STATE_SQUARE) && (square_count_q == 6'd2);
@@ -270,9 +283,8 @@ module halfpoint_arc #(
     wire [1:0] decide_error = radius_zero_q ? 2'd1 : radius_too_big_q ? 2'd2
                             : (end_outside_q || end_inside_q) ? 2'd3 : 2'd0;
     wire [1:0] start_quad   = quadrant_of(cmd_cw_q, cmd_xs_q, cmd_ys_q);
-    wire [1:0] end_quad     = quadrant_of(cmd_cw_q, cmd_xe_q, cmd_ye_q);
     wire       start_u_is_x = (start_quad[0] == cmd_cw_q);
-    wire       end_u_is_x   = (end_quad[0] == cmd_cw_q);
+    wire       end_u_is_x   = (pend_end_quad_q[0] == cmd_cw_q);
 
     // frame set-up: armed flag from the progress order
     wire       init_first_octant = (pend_ve_q <= pend_ue_q);
@@ -327,28 +339,30 @@ module halfpoint_arc #(
             cmd_cw_q <= s_cw;
             cmd_xs_q <= s_xs;
             cmd_ys_q <= s_ys;
-            cmd_xe_q <= s_xe;
-            cmd_ye_q <= s_ye;
+            // the pending slot is free at an accepting edge (the previous
+            // command has left it), so the end quadrant goes there at once
+            pend_end_quad_q <= quadrant_of(s_cw, s_xe, s_ye);
             abs_xs_q <= magnitude(s_xs);
             abs_ys_q <= magnitude(s_ys);
             abs_xe_q <= magnitude(s_xe);
             abs_ye_q <= magnitude(s_ye);
-            square_xs_q <= {{W{1'b0}}, magnitude(s_xs)};
-            square_ys_q <= {{W{1'b0}}, magnitude(s_ys)};
-            square_xe_q <= {{W{1'b0}}, magnitude(s_xe)};
-            square_ye_q <= {{W{1'b0}}, magnitude(s_ye)};
+            radius_square_q <= {{(W+1){1'b0}}, magnitude(s_xs)};
+            end_square_q    <= {{(W+1){1'b0}}, magnitude(s_xe)};
+            multiplier_ys_q <= magnitude(s_ys);
+            multiplier_ye_q <= magnitude(s_ye);
         end
         if (validator_state_q == STATE_SQUARE) begin
-            square_xs_q <= square_step(square_xs_q, abs_xs_q);
-            square_ys_q <= square_step(square_ys_q, abs_ys_q);
-            square_xe_q <= square_step(square_xe_q, abs_xe_q);
-            square_ye_q <= square_step(square_ye_q, abs_ye_q);
+            radius_square_q <= squares_step(radius_square_q, abs_xs_q, multiplier_ys_q[0],
+                                            abs_ys_q);
+            end_square_q    <= squares_step(end_square_q, abs_xe_q, multiplier_ye_q[0],
+                                            abs_ye_q);
+            multiplier_ys_q <= multiplier_ys_q >> 1;
+            multiplier_ye_q <= multiplier_ye_q >> 1;
         end
         if (prepare_frame) begin
             tolerance_q     <= {((abs_xs_q > abs_ys_q) ? abs_xs_q : abs_ys_q), 1'b0};
             radius_zero_q   <= (abs_xs_q == {W{1'b0}}) && (abs_ys_q == {W{1'b0}});
             pend_quad_q     <= start_quad;
-            pend_end_quad_q <= end_quad;
             pend_u_q        <= start_u_is_x ? abs_xs_q : abs_ys_q;
             pend_v_q        <= start_u_is_x ? abs_ys_q : abs_xs_q;
             pend_ue_q       <= end_u_is_x ? abs_xe_q : abs_ye_q;
@@ -356,13 +370,9 @@ module halfpoint_arc #(
         end
         if (prepare_terms) begin
             // F = 0 at the start point
-            pend_d1_add_b_q       <= THREE_D - (init_u << 1);               // P1
-            pend_d1_add_c_q       <= (init_v << 1) + TWO_D;                 // P2
-            pend_d_add_a_cross_q  <= ZERO_D - init_v;                       // P5
             pend_d2_add_b_q       <= TWO_D - (init_u << 1);                 // Q1
             pend_d2_add_c_q       <= (init_v << 1) + THREE_D;               // Q2
             pend_f_add_b_q        <= ONE_D - (init_u << 1);                 // G1
-            pend_f_add_c_q        <= (init_v << 1) + ONE_D;                 // G2
             init_v_times3_q       <= init_v + (init_v << 1);
             init_v_minus_u_twice_q <= (init_v - init_u) << 1;
             pend_first_octant_q   <= init_first_octant;
@@ -384,10 +394,9 @@ module halfpoint_arc #(
         end
         if (prepare_sums) begin
             pend_d1_q             <= init_v + pend_f_add_b_q;               // F - 2u + v + 1
-            pend_d2_q             <= pend_f_add_c_q - init_u;               // F - u + 2v + 1
+            pend_d2_q             <= {1'b0, pend_v_q, 1'b1} - init_u;      // F - u + 2v + 1
             pend_d_add_a_q        <= init_v_minus_u_twice_q + FIVE_D;       // P3
             pend_f_add_a_q        <= init_v_minus_u_twice_q + TWO_D;        // G3
-            pend_d1_add_b_cross_q <= ONE_D - init_v_times3_q;               // P4
             pend_d2_add_b_cross_q <= ZERO_D - init_v_times3_q;              // Q4
             pend_ue_plus2_q       <= pend_ue_plus1_q + ONE_W;
             pend_ue_minus2_q      <= pend_ue_minus1_q - ONE_W;
@@ -395,10 +404,6 @@ module halfpoint_arc #(
             pend_v_plus1_eq_ve_q  <= !pend_ve_zero_q && (pend_v_q == pend_ve_minus1_q);
             pend_u_eq_ue_plus1_q  <= (pend_u_q == pend_ue_plus1_q);
             pend_v_plus1_eq_ue_q  <= (pend_v_q == pend_ue_minus1_q);
-        end
-        if (validator_state_q == STATE_SUM) begin
-            radius_square_q <= {1'b0, square_xs_q} + {1'b0, square_ys_q};
-            end_square_q    <= {1'b0, square_xe_q} + {1'b0, square_ye_q};
         end
         if (validator_state_q == STATE_CHECK) begin
             radius_too_big_q <= ({1'b0, radius_square_q} > RADIUS_SQUARE_MAX);
@@ -415,10 +420,15 @@ module halfpoint_arc #(
     reg  [W-1:0]      u_q, v_q, ue_plus1_q;
     reg  [W-1:0]      point_x_q, point_y_q;                 // current point
     reg  [DATA_W-1:0] d1_q, d2_q, f_q;
-    // increments, see the register names in the header
-    reg  [DATA_W-1:0] d1_add_b_q, d1_add_c_q, d_add_a_q, d1_add_b_cross_q, d_add_a_cross_q;
-    reg  [DATA_W-1:0] d2_add_b_q, d2_add_c_q, d2_add_b_cross_q;
-    reg  [DATA_W-1:0] f_add_b_q, f_add_c_q, f_add_a_q;
+    // increments, see the register names in the header; the other five are
+    // one of these plus the adder's carry-in, or come from v_q:
+    //   P1 = Q1 + 1, P2 = G2 + 1, G2 = 2v + 1 = {v, 1}, P4 = Q4 + 1, P5 = ~v + 1
+    reg  [DATA_W-1:0] d_add_a_q;            // P3 = -2u + 2v + 5
+    reg  [DATA_W-1:0] d2_add_b_q;           // Q1 = -2u + 2
+    reg  [DATA_W-1:0] d2_add_c_q;           // Q2 = 2v + 3
+    reg  [DATA_W-1:0] d2_add_b_cross_q;     // Q4 = -3v
+    reg  [DATA_W-1:0] f_add_b_q;            // G1 = -2u + 1
+    reg  [DATA_W-1:0] f_add_a_q;            // G3 = -2u + 2v + 2
     // end-point constants beyond ue + 1, ue - 1, ve - 1 (for the look-ahead)
     reg  [W-1:0]      ue_plus2_q, ue_minus2_q, ve_minus2_q;
     reg               ve_one_q, ue_zero_q, ue_one_q;
@@ -441,42 +451,44 @@ module halfpoint_arc #(
 
     wire advance  = run_q && en && !abort_now;          // a move at this edge
 
-    // increments of the crossing cases, from -(2v+2) = ~P2 + 1
-    wire [DATA_W-1:0] d1_add_c_inverted = ~d1_add_c_q;
+    // 2v + 1 (G2) and ~v (-v - 1) at datapath width, from v_q
+    wire [DATA_W-1:0] v_twice_plus1 = {1'b0, v_q, 1'b1};
+    wire [DATA_W-1:0] v_inverted    = ~{2'b00, v_q};
 
-    // the loop: select one prepared increment, one add per register
-    wire [DATA_W-1:0] d1_add = crossing ? (move_b ? d1_add_b_cross_q : d_add_a_cross_q)
-                             : (move_b ? d1_add_b_q : move_a ? d_add_a_q : d1_add_c_q);
-    wire [DATA_W-1:0] d2_add = crossing ? (move_b ? d2_add_b_cross_q : d_add_a_cross_q)
+    // the loop: select one prepared increment, one add per register, the
+    // carry-in making P1, P2, P4, P5 from Q1, G2, Q4, ~v
+    wire [DATA_W-1:0] d1_add = crossing ? (move_b ? d2_add_b_cross_q : v_inverted)
+                             : (move_b ? d2_add_b_q : move_a ? d_add_a_q : v_twice_plus1);
+    wire              d1_carry = crossing || !move_a;
+    wire [DATA_W-1:0] d2_add = crossing ? (move_b ? d2_add_b_cross_q : v_inverted)
                              : (move_b ? d2_add_b_q : move_a ? d_add_a_q : d2_add_c_q);
-    wire [DATA_W-1:0] f_add  = move_b ? f_add_b_q : move_a ? f_add_a_q : f_add_c_q;
+    wire              d2_carry = crossing && move_a;
+    wire [DATA_W-1:0] f_add  = move_b ? f_add_b_q : move_a ? f_add_a_q : v_twice_plus1;
+    wire [DATA_W-1:0] d1_n   = d1_q + d1_add + {{(DATA_W-1){1'b0}}, d1_carry};
+    wire [DATA_W-1:0] d2_n   = d2_q + d2_add + {{(DATA_W-1){1'b0}}, d2_carry};
 
-    // next increments: register + constant, or ~P2 + constant on a crossing
-    // (u' = v or v + 1, v' = 0); see README for the derivation
+    // next increments: register + constant, or ~(2v + 1) + constant on a
+    // crossing (u' = v or v + 1, v' = 0; ~(2v + 1) = -2v - 2); see README;
+    // one adder per register, its operands multiplexed
     // registers whose term is -2u gain 2 on every move that lowers u
     wire [DATA_W-1:0] u_term_add = u_down ? TWO_D : ZERO_D;
-    wire [DATA_W-1:0] d1_add_b_n = crossing ? (d1_add_c_inverted + (move_b ? SIX_D : FOUR_D))
-                                            : (d1_add_b_q + u_term_add);
-    wire [DATA_W-1:0] d1_add_c_n = crossing ? TWO_D : (d1_add_c_q + (v_up ? TWO_D : ZERO_D));
-    wire [DATA_W-1:0] d_add_a_n  = crossing ? (d1_add_c_inverted + (move_b ? EIGHT_D : SIX_D))
-                                            : (d_add_a_q + (move_a ? FOUR_D : TWO_D));
-    wire [DATA_W-1:0] d1_add_b_cross_n =
-        crossing ? ONE_D : (d1_add_b_cross_q + (v_up ? MINUS_THREE_D : ZERO_D));
-    wire [DATA_W-1:0] d_add_a_cross_n =
-        crossing ? ZERO_D : (d_add_a_cross_q + (v_up ? MINUS_ONE_D : ZERO_D));
-    wire [DATA_W-1:0] d2_add_b_n = crossing ? (d1_add_c_inverted + (move_b ? FIVE_D : THREE_D))
-                                            : (d2_add_b_q + u_term_add);
+    wire [DATA_W-1:0] v_crossed  = ~v_twice_plus1;
+    wire [DATA_W-1:0] d_add_a_n  = (crossing ? v_crossed : d_add_a_q)
+        + (crossing ? (move_b ? SEVEN_D : FIVE_D) : (move_a ? FOUR_D : TWO_D));
+    wire [DATA_W-1:0] d2_add_b_n = (crossing ? v_crossed : d2_add_b_q)
+        + (crossing ? (move_b ? FOUR_D : TWO_D) : u_term_add);
     wire [DATA_W-1:0] d2_add_c_n = crossing ? THREE_D : (d2_add_c_q + (v_up ? TWO_D : ZERO_D));
     wire [DATA_W-1:0] d2_add_b_cross_n =
         crossing ? ZERO_D : (d2_add_b_cross_q + (v_up ? MINUS_THREE_D : ZERO_D));
-    wire [DATA_W-1:0] f_add_b_n  = crossing ? (d1_add_c_inverted + (move_b ? FOUR_D : TWO_D))
-                                            : (f_add_b_q + u_term_add);
-    wire [DATA_W-1:0] f_add_c_n  = crossing ? ONE_D : (f_add_c_q + (v_up ? TWO_D : ZERO_D));
-    wire [DATA_W-1:0] f_add_a_n  = crossing ? (d1_add_c_inverted + (move_b ? FIVE_D : THREE_D))
-                                            : (f_add_a_q + (move_a ? FOUR_D : TWO_D));
+    wire [DATA_W-1:0] f_add_b_n  = (crossing ? v_crossed : f_add_b_q)
+        + (crossing ? (move_b ? THREE_D : ONE_D) : u_term_add);
+    wire [DATA_W-1:0] f_add_a_n  = (crossing ? v_crossed : f_add_a_q)
+        + (crossing ? (move_b ? FOUR_D : TWO_D) : (move_a ? FOUR_D : TWO_D));
 
-    wire [W-1:0] u_n    = crossing ? (move_a ? v_q + ONE_W : v_q) : (u_down ? u_q - ONE_W : u_q);
-    wire [W-1:0] v_n    = crossing ? {W{1'b0}} : (v_up ? v_q + ONE_W : v_q);
+    // u' = v or v + 1 on a crossing, else u - 1 or u (one adder)
+    wire [W-1:0] u_n    = (crossing ? v_q : u_q)
+                        + (crossing ? {{(W-1){1'b0}}, move_a} : {W{u_down}});
+    wire [W-1:0] v_n    = crossing ? {W{1'b0}} : (v_q + {{(W-1){1'b0}}, v_up});
     wire [1:0]   quad_crossed = cw_q ? quad_q - 2'd1 : quad_q + 2'd1;   // the next quadrant
     wire [1:0]   quad_n = crossing ? quad_crossed : quad_q;
 
@@ -488,10 +500,11 @@ module halfpoint_arc #(
     wire y_steps     = u_is_x ? v_up : u_down;
     wire x_direction = u_is_x ? !x_positive : x_positive;     // 1 = positive
     wire y_direction = u_is_x ? y_positive : !y_positive;
-    wire [W-1:0] point_x_n = x_steps ? (x_direction ? point_x_q + ONE_W : point_x_q - ONE_W)
-                                     : point_x_q;
-    wire [W-1:0] point_y_n = y_steps ? (y_direction ? point_y_q + ONE_W : point_y_q - ONE_W)
-                                     : point_y_q;
+    // point + 1, - 1 (all ones) or + 0: one adder per axis
+    wire [W-1:0] point_x_n = point_x_q
+                           + {{(W-1){x_steps && !x_direction}}, x_steps};
+    wire [W-1:0] point_y_n = point_y_q
+                           + {{(W-1){y_steps && !y_direction}}, y_steps};
 
     // end detection for the point after this move (progress order of E),
     // from the registered comparison flags
@@ -606,16 +619,11 @@ module halfpoint_arc #(
             d1_q             <= pend_d1_q;
             d2_q             <= pend_d2_q;
             f_q              <= {DATA_W{1'b0}};
-            d1_add_b_q       <= pend_d1_add_b_q;
-            d1_add_c_q       <= pend_d1_add_c_q;
             d_add_a_q        <= pend_d_add_a_q;
-            d1_add_b_cross_q <= pend_d1_add_b_cross_q;
-            d_add_a_cross_q  <= pend_d_add_a_cross_q;
             d2_add_b_q       <= pend_d2_add_b_q;
             d2_add_c_q       <= pend_d2_add_c_q;
             d2_add_b_cross_q <= pend_d2_add_b_cross_q;
             f_add_b_q        <= pend_f_add_b_q;
-            f_add_c_q        <= pend_f_add_c_q;
             f_add_a_q        <= pend_f_add_a_q;
         end else if (advance) begin
             quad_q           <= quad_n;
@@ -634,19 +642,14 @@ module halfpoint_arc #(
             v_plus1_eq_ue_q  <= v_plus1_eq_ue_n;
             point_x_q        <= point_x_n;
             point_y_q        <= point_y_n;
-            d1_q             <= d1_q + d1_add;
-            d2_q             <= d2_q + d2_add;
+            d1_q             <= d1_n;
+            d2_q             <= d2_n;
             f_q              <= f_q + f_add;
-            d1_add_b_q       <= d1_add_b_n;
-            d1_add_c_q       <= d1_add_c_n;
             d_add_a_q        <= d_add_a_n;
-            d1_add_b_cross_q <= d1_add_b_cross_n;
-            d_add_a_cross_q  <= d_add_a_cross_n;
             d2_add_b_q       <= d2_add_b_n;
             d2_add_c_q       <= d2_add_c_n;
             d2_add_b_cross_q <= d2_add_b_cross_n;
             f_add_b_q        <= f_add_b_n;
-            f_add_c_q        <= f_add_c_n;
             f_add_a_q        <= f_add_a_n;
         end
     end
