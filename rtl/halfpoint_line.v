@@ -11,14 +11,17 @@
 // and ends exactly on its delta.  One iteration ("move") per clock while `en`
 // is high, from one segment to the next without an idle clock.
 //
-// Per axis the run stage keeps E_i = 2(F_i + |d_i|) - Max - 1 and two
-// prepared increments, so the loop is: sign(E_i) -> select -> one add.
+// Per axis the run stage keeps E_i = 2(F_i + |d_i|) - Max - 1 and the two
+// increments, halved (|d_i| and |d_i| - Max), so the loop is: sign(E_i) ->
+// select -> one add.
 //
 // Command (valid/ready, taken when s_valid & s_ready):
 //   s_delta   NA signed W-bit deltas, axis 0 in the least significant bits
-// Validator: NA + 2 clocks (magnitudes, running maximum, increments), then a
-// pending slot that, while start_en is high, enters the run stage at the edge
-// of the running segment's last move, or at once when the run stage is idle.
+// Validator: NA + 2 clocks (magnitudes, running maximum, the zero check),
+// then a pending slot (the validator's |d_i|, signs and Max, held) that, while
+// start_en is high, enters the run stage at the edge of the running segment's
+// last move, or at once when the run stage is idle; E_i and the increments
+// are computed from the slot as it enters.
 // The sequencing outputs (running, loading, ending, nx_*) are combinational
 // views of the run stage for the motion core.  A segment with all
 // deltas zero is rejected (reject pulse, err_code = 1) and makes no move.
@@ -32,9 +35,10 @@
 // elaboration).
 //
 // Register names: registers end in _q, the value they take at the next edge
-// in _n; cmd_* hold the command being validated, pend_* the pending slot.
-// e_q is E_i of every axis, e_add_step_q / e_add_hold_q the increments E_i
-// receives on an iteration in which axis i steps / does not step.
+// in _n; cmd_* hold the command being validated or pending.  e_q is E_i of
+// every axis; E_i receives 2 * e_half_step_q on an iteration in which axis i
+// steps, 2 * e_half_hold_q on one in which it does not.  Every register is as
+// wide as its bound (stated beside it; |d_i| <= Max <= 2^(W-1)).
 //
 // abort_now: at the next edge no move is made and the running, pending and
 // validating segments are dropped (no reject for them); s_ready is low while
@@ -45,7 +49,7 @@
 module halfpoint_line #(
     // number of axes, 1..6
     parameter integer NA = 3,
-    // delta width in bits, 8..32 (signed deltas); the datapath is W+2 bits
+    // delta width in bits, 8..32 (signed deltas); E_i is W+1 bits
     parameter integer W  = 32
 ) (
     input  wire            clk,
@@ -101,7 +105,8 @@ module halfpoint_line #(
         end
     endgenerate
 
-    localparam integer DATA_W = W + 2;      // datapath width
+    // E_i in [2|d_i| - 2 Max, 2|d_i| - 1], within [-2^W, 2^W - 1]: W+1 bits signed
+    localparam integer DATA_W = W + 1;
     // validator states
     localparam [1:0] STATE_IDLE = 2'd0;
     localparam [1:0] STATE_MAX  = 2'd1;
@@ -112,12 +117,10 @@ module halfpoint_line #(
     localparam [DATA_W-1:0] ONE_D = {{(DATA_W-1){1'b0}}, 1'b1};
 
     reg  [1:0]          validator_state_q;
-    reg  [2:0]          axis_index_q;
-    reg  [NA*W-1:0]     cmd_abs_q;              // |d_i|
+    reg  [2:0]          axis_index_q;           // 0..NA-1
+    reg  [NA*W-1:0]     cmd_abs_q;              // |d_i|, 0..2^(W-1)
     reg  [NA-1:0]       cmd_negative_q;         // d_i < 0
-    reg  [W-1:0]        max_abs_q;              // running maximum of |d_i|
-    reg  [NA*DATA_W-1:0] pend_e_q, pend_e_add_step_q, pend_e_add_hold_q;
-    reg  [W-1:0]        pend_moves_q;
+    reg  [W-1:0]        max_abs_q;              // running maximum of |d_i|, 0..2^(W-1)
 
     assign s_ready = (validator_state_q == STATE_IDLE) && !abort_now;
     wire   accept   = s_valid && s_ready;
@@ -149,27 +152,16 @@ module halfpoint_line #(
             axis_index_q <= axis_index_q + 3'd1;
             if (abs_selected > max_abs_q) max_abs_q <= abs_selected;
         end
-        if (validator_state_q == STATE_INIT) pend_moves_q <= max_abs_q;
     end
 
     genvar i;
     generate
         for (i = 0; i < NA; i = i + 1) begin : g_in
             wire [W-1:0]      delta     = s_delta[i*W +: W];
-            wire [DATA_W-1:0] abs_twice = {1'b0, cmd_abs_q[i*W +: W], 1'b0};     // 2|d_i|
-            wire [DATA_W-1:0] max_wide  = {2'b00, max_abs_q};
             always @(posedge clk) begin
                 if (accept) begin
                     cmd_negative_q[i] <= delta[W-1];
                     cmd_abs_q[i*W +: W] <= delta[W-1] ? (~delta + ONE_W) : delta;
-                end
-                if (validator_state_q == STATE_INIT) begin
-                    // E_0 (F = 0)
-                    pend_e_q[i*DATA_W +: DATA_W]          <= abs_twice - max_wide - ONE_D;
-                    // after a step
-                    pend_e_add_step_q[i*DATA_W +: DATA_W] <= abs_twice - (max_wide << 1);
-                    // no step
-                    pend_e_add_hold_q[i*DATA_W +: DATA_W] <= abs_twice;
                 end
             end
         end
@@ -179,9 +171,11 @@ module halfpoint_line #(
     // Run stage
     // ------------------------------------------------------------------
     reg                  run_q;
-    reg  [W-1:0]         moves_left_q;
+    reg  [W-1:0]         moves_left_q;          // 1..Max while running
     reg  [NA-1:0]        negative_q;
-    reg  [NA*DATA_W-1:0] e_q, e_add_step_q, e_add_hold_q;
+    reg  [NA*DATA_W-1:0] e_q;                   // E_i, -2^W..2^W-1 (signed)
+    reg  [NA*W-1:0]      e_half_step_q;         // |d_i| - Max, -2^(W-1)..0 (signed)
+    reg  [NA*W-1:0]      e_half_hold_q;         // |d_i|, 0..2^(W-1)
     wire [NA-1:0]        steps;
 
     wire advance = run_q && en && !abort_now;           // a move at this edge
@@ -196,17 +190,23 @@ module halfpoint_line #(
     assign nx_dir  = ~negative_q;
     assign busy    = run_q || (validator_state_q != STATE_IDLE);
 
+    // The increments 2|d_i| - 2 Max (a step) and 2|d_i| (no step) are even:
+    // kept halved.  E_i + 2|d_i| is computed modulo 2^(W+1) (2^W, at |d_i| =
+    // 2^(W-1), reads as -2^W): exact, since the sum is within E_i's bounds.
     generate
         for (i = 0; i < NA; i = i + 1) begin : g_axis
             wire [DATA_W-1:0] e_axis = e_q[i*DATA_W +: DATA_W];
+            wire [W-1:0]      abs    = cmd_abs_q[i*W +: W];
             assign steps[i] = !e_axis[DATA_W-1];
-            wire [DATA_W-1:0] e_add = steps[i] ? e_add_step_q[i*DATA_W +: DATA_W]
-                                               : e_add_hold_q[i*DATA_W +: DATA_W];
+            wire [W-1:0]      e_half = steps[i] ? e_half_step_q[i*W +: W]
+                                                : e_half_hold_q[i*W +: W];
+            wire [DATA_W-1:0] e_add  = {e_half, 1'b0};
             always @(posedge clk) begin
                 if (load) begin
-                    e_q[i*DATA_W +: DATA_W]          <= pend_e_q[i*DATA_W +: DATA_W];
-                    e_add_step_q[i*DATA_W +: DATA_W] <= pend_e_add_step_q[i*DATA_W +: DATA_W];
-                    e_add_hold_q[i*DATA_W +: DATA_W] <= pend_e_add_hold_q[i*DATA_W +: DATA_W];
+                    // E_0 = 2|d_i| - Max - 1 (F = 0), from the pending slot
+                    e_q[i*DATA_W +: DATA_W] <= {abs, 1'b0} - {1'b0, max_abs_q} - ONE_D;
+                    e_half_step_q[i*W +: W] <= abs - max_abs_q;
+                    e_half_hold_q[i*W +: W] <= abs;
                 end else if (advance) begin
                     e_q[i*DATA_W +: DATA_W] <= e_axis + e_add;
                 end
@@ -226,7 +226,7 @@ module halfpoint_line #(
 
     always @(posedge clk) begin
         if (load) begin
-            moves_left_q <= pend_moves_q;
+            moves_left_q <= max_abs_q;
             negative_q   <= cmd_negative_q;
         end else if (advance) begin
             moves_left_q <= moves_left_q - ONE_W;
@@ -285,12 +285,14 @@ module halfpoint_line #(
     //   outputs    move, step, done, reject are the registered views of the
     //              edge before.
     // Labels: a_* the contract, i_* invariants that tie the RTL state to the
-    // monitor so that k-induction closes (E_i in terms of F_i, the pending
-    // slot's precomputed values, the validator's running maximum); in the
+    // monitor so that k-induction closes (E_i in terms of F_i, the increments,
+    // the validator's running maximum); in the
     // generate loop the label is the comment after `assert(` (Yosys would
     // see one label many times).  rst and abort_now are free (rst high on the
     // first clock).
     localparam integer F_PW = 2 * W + 4;         // products n|d|, s Max and their sums
+    // |d_i| <= 2^(W-1): the bound that sizes E_i (W+1 bits) and the increments
+    localparam [W-1:0] F_ABS_BOUND = {1'b1, {(W-1){1'b0}}};
 
     reg f_past_valid;
     initial f_past_valid = 1'b0;
@@ -409,9 +411,12 @@ module halfpoint_line #(
             wire [W-1:0]      f_abs   = f_run_abs[f_i*W +: W];
             wire [W-1:0]      f_s     = f_steps[f_i*W +: W];
             wire [DATA_W-1:0] f_e     = e_q[f_i*DATA_W +: DATA_W];
-            wire [DATA_W-1:0] f_estep = e_add_step_q[f_i*DATA_W +: DATA_W];
-            wire [DATA_W-1:0] f_ehold = e_add_hold_q[f_i*DATA_W +: DATA_W];
+            wire [W-1:0]      f_hstep = e_half_step_q[f_i*W +: W];
+            wire [W-1:0]      f_hhold = e_half_hold_q[f_i*W +: W];
             wire [F_PW-1:0] f_ewide = {{(F_PW-DATA_W){f_e[DATA_W-1]}}, f_e};
+            // the increments 2 (|d| - Max) and 2 |d|, at the monitor's width
+            wire [F_PW-1:0] f_estep = {{(F_PW-W-1){f_hstep[W-1]}}, f_hstep, 1'b0};
+            wire [F_PW-1:0] f_ehold = {{(F_PW-W-1){1'b0}}, f_hhold, 1'b0};
             wire [F_PW-1:0] f_maxw  = {{(W+4){1'b0}}, f_run_max};
             wire [F_PW-1:0] f_absw  = {{(W+4){1'b0}}, f_abs};
             // F, the deviation from the ideal line after n moves, kept by adding
@@ -423,13 +428,12 @@ module halfpoint_line #(
             always @(*)
                 if (f_past_valid && !rst && run_q) begin
                     // the run stage holds the loaded segment's values
-                    assert(f_ehold == {1'b0, f_abs, 1'b0});  // i_hold
-                    assert(f_estep == {1'b0, f_abs, 1'b0}  // i_step
-                                      - {1'b0, f_run_max, 1'b0});
+                    assert(f_hhold == f_abs);  // i_hold
+                    assert(f_hstep == f_abs - f_run_max);  // i_step
                     assert(negative_q[f_i] == f_run_neg[f_i]);  // i_negative
                     assert(f_ewide == (f_dev << 1) + (f_absw << 1) - f_maxw - 1'b1);  // i_e
-                    assert($signed(f_e) >= $signed(f_estep));  // a_e_low
-                    assert($signed(f_e) < $signed(f_ehold));  // a_e_high
+                    assert($signed(f_ewide) >= $signed(f_estep));  // a_e_low
+                    assert($signed(f_ewide) < $signed(f_ehold));  // a_e_high
                     assert($signed(f_dev << 1) > -$signed(f_maxw)  // a_error
                            && $signed(f_dev << 1) <= $signed(f_maxw));
 `ifdef F_ENDS
@@ -455,19 +459,8 @@ module halfpoint_line #(
                 if (f_past_valid && !rst && validator_state_q != STATE_IDLE) begin
                     // the validator holds the command taken
                     assert(cmd_abs_q[f_i*W +: W] == f_slot_abs[f_i*W +: W]);  // i_cmd_abs
+                    assert(f_slot_abs[f_i*W +: W] <= F_ABS_BOUND);  // i_slot_abs_bound
                     assert(cmd_negative_q[f_i] == f_slot_neg[f_i]);  // i_cmd_neg
-                end
-            always @(*)
-                if (f_past_valid && !rst && validator_state_q == STATE_HOLD) begin
-                    // the pending slot holds the validated command's values
-                    assert(pend_e_q[f_i*DATA_W +: DATA_W]  // i_pend_e
-                           == {1'b0, f_slot_abs[f_i*W +: W], 1'b0}
-                              - {2'b00, f_slot_max} - ONE_D);
-                    assert(pend_e_add_step_q[f_i*DATA_W +: DATA_W]  // i_pend_step
-                           == {1'b0, f_slot_abs[f_i*W +: W], 1'b0}
-                              - {1'b0, f_slot_max, 1'b0});
-                    assert(pend_e_add_hold_q[f_i*DATA_W +: DATA_W]  // i_pend_hold
-                           == {1'b0, f_slot_abs[f_i*W +: W], 1'b0});
                 end
             // registered outputs: the step of the move before, in its direction
             always @(posedge clk)
@@ -484,11 +477,11 @@ module halfpoint_line #(
     always @(*)
         if (f_past_valid && !rst && run_q) begin
             i_moves_left: assert(moves_left_q == f_run_max - f_moves);
+            i_max_bound:  assert(f_run_max <= F_ABS_BOUND);
             a_moves:      assert(f_moves < f_run_max);
         end
     always @(*)
         if (f_past_valid && !rst && validator_state_q == STATE_HOLD) begin
-            i_pend_moves: assert(pend_moves_q == f_slot_max);
             i_pend_live:  assert(f_slot_max != {W{1'b0}});
             i_pend_max:   assert(max_abs_q == f_slot_max);
         end

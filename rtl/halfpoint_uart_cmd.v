@@ -101,7 +101,6 @@ module halfpoint_uart_cmd #(
 
     localparam integer CLOCKS_PER_BIT = CLK_HZ / BAUD;
     localparam integer COUNT_W        = $clog2(CLOCKS_PER_BIT * IDLE_BITS + 1);
-    localparam [31:0]  CLOCKS_PER_BIT_32 = CLOCKS_PER_BIT;
     localparam [31:0]  HALF_BIT_32       = CLOCKS_PER_BIT / 2 - 1;
     localparam [31:0]  IDLE_CLOCKS_32    = CLOCKS_PER_BIT * IDLE_BITS;
     localparam integer CMD_BYTES    = `HALFPOINT_LINK_COMMAND_BYTES;
@@ -113,8 +112,11 @@ module halfpoint_uart_cmd #(
                                                                    : IDENT_BYTES;
     localparam [31:0]  STATUS_LEN_32 = STATUS_BYTES + 1;
     localparam [31:0]  IDENT_LEN_32  = IDENT_BYTES + 1;
-    wire [COUNT_W-1:0] clocks_per_bit = CLOCKS_PER_BIT_32[COUNT_W-1:0];
-    wire [COUNT_W-1:0] half_bit       = HALF_BIT_32[COUNT_W-1:0];
+    // the bit-time counters count 0..CLOCKS_PER_BIT - 1
+    localparam integer BIT_W = $clog2(CLOCKS_PER_BIT);
+    localparam [31:0]  BIT_LAST_32   = CLOCKS_PER_BIT - 1;
+    wire [BIT_W-1:0]   bit_last       = BIT_LAST_32[BIT_W-1:0];
+    wire [BIT_W-1:0]   half_bit       = HALF_BIT_32[BIT_W-1:0];
     wire [COUNT_W-1:0] idle_clocks    = IDLE_CLOCKS_32[COUNT_W-1:0];
 
     generate
@@ -158,7 +160,7 @@ module halfpoint_uart_cmd #(
     wire              rx_synced = rx_sync_q[1];
     reg               rx_busy_q;
     reg [3:0]         rx_bit_q;         // 0 = start bit, 1..8 = data, 9 = stop
-    reg [COUNT_W-1:0] rx_count_q;       // clocks to the next sample point
+    reg [BIT_W-1:0]   rx_count_q;       // clocks to the next sample point, < CLOCKS_PER_BIT
     reg [7:0]         rx_shift_q;
     reg               byte_valid_q;     // a good byte in rx_shift_q (one clock)
     reg               frame_err_q;      // a bad stop bit (one clock)
@@ -177,7 +179,7 @@ module halfpoint_uart_cmd #(
         if (rst) begin
             rx_busy_q  <= 1'b0;
             rx_bit_q   <= 4'd0;
-            rx_count_q <= {COUNT_W{1'b0}};
+            rx_count_q <= {BIT_W{1'b0}};
             rx_shift_q <= 8'd0;
         end else if (!rx_busy_q) begin
             if (!rx_synced) begin
@@ -186,10 +188,10 @@ module halfpoint_uart_cmd #(
                 rx_bit_q  <= 4'd0;
                 rx_count_q <= half_bit;
             end
-        end else if (rx_count_q != {COUNT_W{1'b0}}) begin
+        end else if (rx_count_q != {BIT_W{1'b0}}) begin
             rx_count_q <= rx_count_q - 1'b1;
         end else begin
-            rx_count_q <= clocks_per_bit - 1'b1;
+            rx_count_q <= bit_last;
             if (rx_bit_q == 4'd0) begin
                 if (rx_synced) begin
                     rx_busy_q <= 1'b0;          // a glitch, not a start bit
@@ -460,7 +462,7 @@ module halfpoint_uart_cmd #(
     // byte transmitter
     reg [9:0]         tx_shift_q;       // stop, data[7:0], start; LSB on the line
     reg [3:0]         tx_left_q;        // bit times still to send: 10 bits + 1 whole stop bit
-    reg [COUNT_W-1:0] tx_count_q;
+    reg [BIT_W-1:0]   tx_count_q;       // clocks to the next bit, < CLOCKS_PER_BIT
     reg               tx_q;
     wire              tx_idle = tx_left_q == 4'd0;
     assign pick = tx_idle && frame_left_q == 6'd0;
@@ -513,22 +515,22 @@ module halfpoint_uart_cmd #(
         if (rst) begin
             tx_shift_q <= 10'h3ff;
             tx_left_q  <= 4'd0;
-            tx_count_q <= {COUNT_W{1'b0}};
+            tx_count_q <= {BIT_W{1'b0}};
             tx_q       <= 1'b1;
         end else if (tx_idle) begin
             tx_q <= 1'b1;
             if (frame_left_q != 6'd0) begin
                 tx_shift_q <= {1'b1, next_byte, 1'b0};
                 tx_left_q  <= 4'd11;
-                tx_count_q <= {COUNT_W{1'b0}};
+                tx_count_q <= {BIT_W{1'b0}};
             end
-        end else if (tx_count_q != {COUNT_W{1'b0}}) begin
+        end else if (tx_count_q != {BIT_W{1'b0}}) begin
             tx_count_q <= tx_count_q - 1'b1;
         end else begin
             tx_q       <= tx_shift_q[0];
             tx_shift_q <= {1'b1, tx_shift_q[9:1]};
             tx_left_q  <= tx_left_q - 1'b1;
-            tx_count_q <= clocks_per_bit - 1'b1;
+            tx_count_q <= bit_last;
         end
     end
 

@@ -4,9 +4,10 @@
 // halfpoint_uart_top: example board top -- the motion core driven over a
 // serial port, STEP/DIR/ENABLE to pins
 // ============================================================================
-// The top that constraints/ maps onto two boards (iCE40-HX8K Breakout Board:
+// The top that constraints/ maps onto three boards (iCE40-HX8K Breakout Board:
 // constraints/hx8k_breakout.pcf; ULX3S with LFE5U-25F: constraints/
-// ulx3s.lpf).  A host (`halfpoint send`) streams commands (model/halfpoint/
+// ulx3s.lpf; iCEBreaker with iCE40UP5K: constraints/icebreaker.pcf).  A
+// host (`halfpoint send`) streams commands (model/halfpoint/
 // spec/encoding.py) over the board's USB serial port in the frames of the
 // serial link (model/halfpoint/spec/link.py, halfpoint_uart_cmd): each
 // COMMAND is acknowledged when the core takes it, so the core's queue stays

@@ -44,3 +44,94 @@ def test_refloop_ccu2c_equivalent_to_fold():
     for wr in (34, 35):
         ok, log = synth.ccu2c_equivalent(wr)
         assert ok, f"not proven equivalent at WR = {wr}: see {log}"
+
+
+# two counters under a top with a flip-flop of its own: where each cell goes
+TINY_HIER = """\
+`default_nettype none
+module tiny_counter #(parameter integer N = 8) (
+    input  wire         clk,
+    input  wire         en,
+    output reg  [N-1:0] q
+);
+    always @(posedge clk) if (en) q <= q + 1'b1;
+endmodule
+module tiny_top #(parameter integer N = 6) (
+    input  wire           clk,
+    input  wire           a,
+    input  wire           b,
+    output wire [2*N+1:0] q,
+    output reg            p
+);
+    tiny_counter #(.N(N)) u_first (.clk(clk), .en(a), .q(q[N-1:0]));
+    tiny_counter #(.N(N + 2)) u_second (.clk(clk), .en(b), .q(q[2*N+1:N]));
+    always @(posedge clk) p <= a ^ b;
+endmodule
+`default_nettype wire
+"""
+
+
+def test_area_breakdown_per_instance():
+    """make synth's per-instance area (hierarchy kept): one row per instance
+    with its own cells, the top's own cells first, on both families."""
+    work = BUILD / "test_synth" / "breakdown"
+    work.mkdir(parents=True, exist_ok=True)
+    src = work / "tiny_hier.v"
+    src.write_text(TINY_HIER)
+    for family in ("ice40", "ecp5"):
+        rows = synth.breakdown("tiny_top", {"N": 6}, family, work,
+                               (str(src.relative_to(REPO)),))
+        assert [(r["instance"], r["module"]) for r in rows] == [
+            ("(own cells)", "tiny_top"), ("u_first", "tiny_counter"),
+            ("u_second", "tiny_counter")], rows
+        assert [r["ff"] for r in rows] == [1, 6, 8], (family, rows)
+        assert rows[0]["lut4"] == 1 and all(r["ram"] == 0 for r in rows)
+        assert rows[2]["carry"] > rows[1]["carry"] > 0, (family, rows)
+        table = synth.breakdown_table(rows)
+        total = table.splitlines()[-1]
+        assert total.startswith("| total |") and f"| {sum(r['ff'] for r in rows)} |" in total
+
+
+def test_board_verdicts():
+    """make boards fails a board that misses its clock or does not fit, but
+    not one marked known_overfull while it does not fit; such a board fails
+    once it fits (the mark is stale)."""
+    must = synth.Board("b", "iCE40UP5K-SG48", [], 12.0, {})
+    known = synth.Board("b", "iCE40UP5K-SG48", [], 12.0, {}, known_overfull="issue 16")
+    fits_ok = {"ok": True, "fits": True}
+    too_slow = {"ok": False, "fits": True, "why": "misses its clock"}
+    too_big = {"ok": False, "fits": False, "why": "does not fit: 9000 / 5280 logic cells (170 %)"}
+    assert synth.board_verdict(must, fits_ok) == (True, "yes")
+    assert not synth.board_verdict(must, too_slow)[0]
+    assert synth.board_verdict(must, too_big) == (False, "NO: " + too_big["why"])
+    assert synth.board_verdict(known, too_big)[0]
+    assert "does not fit" in synth.board_verdict(known, too_big)[1]
+    passes, word = synth.board_verdict(known, fits_ok)
+    assert not passes and "remove known_overfull" in word
+    log = ("Info: Device utilisation:\nInfo: \t         ICESTORM_LC:   11903/   5280   225%\n"
+           "ERROR: Unable to place cell 'x', no BELs remaining to implement cell type "
+           "'ICESTORM_LC'\n")
+    assert synth.utilisation(log, "ICESTORM_LC") == (11903, 5280)
+    assert synth.utilisation("nothing", "ICESTORM_LC") is None
+
+
+def test_board_pin_files_place_every_port():
+    """Each iCE40 board's PCF gives every port bit of the board top (at the
+    board's parameters) a pin, and names nothing else."""
+    for board in synth.BOARDS:
+        pcfs = [c for c in board.constraints if c.endswith(".pcf")]
+        if not pcfs:
+            continue
+        target = synth.Target(board.name, "halfpoint_uart_top", board.params)
+        work = BUILD / "test_synth" / "pins" / board.name
+        work.mkdir(parents=True, exist_ok=True)
+        bits = set()
+        for name, _, width in synth.ports_of(target, work):
+            bits |= {name} if width == 1 else {f"{name}[{k}]" for k in range(width)}
+        pinned = {}
+        for line in (REPO / "constraints" / pcfs[0]).read_text().splitlines():
+            words = line.split("#")[0].split()
+            if words and words[0] == "set_io":
+                pinned[words[-2]] = words[-1]
+        assert set(pinned) == bits, (board.name, set(pinned) ^ bits)
+        assert len(set(pinned.values())) == len(pinned), f"{board.name}: a pin used twice"

@@ -91,6 +91,14 @@ async def extreme_deltas(dut):
     cmds = [fit((-big, big - 1, big // 3, -1, 1, 0))]
     if W <= 16:
         cmds.append(fit((-half, half - 1, -half, half - 1, 7, -7)))
+    # each axis in turn one short of the longest, every bit below the top set:
+    # its no-step increment 2|d| uses every bit of the register that keeps it
+    for k in range(NA):
+        d = [0] * NA
+        d[k] = -(big - 1) if k % 2 else big - 1
+        if NA > 1:
+            d[(k + 1) % NA] = -big
+        cmds.append(tuple(d))
     results, _ = await bench.run(cmds)
     check_results(results, cmds)
 
