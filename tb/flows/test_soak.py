@@ -11,11 +11,12 @@ from halfpoint.flows.soak import main, make_batch, report, soak
 from halfpoint.flows.simspeed import check_holds
 
 SEED = 5
+BUILD = "quick"         # the harness built quickest (-O1, one build): a lean test
 
 
 @pytest.fixture(scope="module")
 def passed():
-    return soak(segments=240, seed=SEED, axes=3, per_batch=40, jobs=1, chunk=3)
+    return soak(segments=240, seed=SEED, axes=3, per_batch=40, jobs=1, chunk=3, build=BUILD)
 
 
 def test_short_soak_passes(passed):
@@ -32,7 +33,7 @@ def test_short_soak_passes(passed):
 
 def test_altered_expectation_fails(passed):
     res = soak(segments=240, seed=SEED, axes=3, per_batch=40, jobs=1, chunk=3,
-               corrupt=(4, 17))
+               corrupt=(4, 17), build=BUILD)
     assert not res.ok
     assert res.failed_batch == 4
     assert res.failure.startswith("FAIL batch 4: move 17 at clock")
@@ -45,9 +46,10 @@ def test_altered_expectation_fails(passed):
 
 def test_only_batch_reproduces(capsys):
     assert main(["--segments", "240", "--seed", str(SEED), "--per-batch", "40",
-                 "--only-batch", "4", "--jobs", "1"]) == 0
+                 "--only-batch", "4", "--jobs", "1", "--build", BUILD]) == 0
     assert main(["--segments", "240", "--seed", str(SEED), "--per-batch", "40",
-                 "--only-batch", "4", "--jobs", "1", "--corrupt", "4", "3"]) == 1
+                 "--only-batch", "4", "--jobs", "1", "--corrupt", "4", "3",
+                 "--build", BUILD]) == 1
     assert "FAIL batch 4: move 3" in capsys.readouterr().out
 
 

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import hashlib
 import random
+import shutil
 import subprocess
 import sys
 import time
@@ -49,15 +50,19 @@ HARNESS_PROFILE_DEPTH = 2
 MAGIC = 0x314B414F53504848  # "HHPSOAK1", the vector file's first word
 HARNESS_SOURCE = REPO / "tb" / "halfpoint_core" / "speed_harness.cpp"
 
-# Build variants: name -> (Verilator options, C++ compiler flags).
+# Build variants: name -> (Verilator options, C++ compiler flags, profile-guided).  A
+# profile-guided build is built instrumented, run on a training program (``program``
+# with TRAIN_SEED, not the measured seed) and built again with the profile.
+XFAST = ["-O3", "--x-assign", "fast", "--x-initial", "fast", "--no-timing"]
 HARNESS_BUILDS = {
-    "O3": (["-O3"], "-O2"),
-    "O3-xfast": (["-O3", "--x-assign", "fast", "--x-initial", "fast", "--no-timing"],
-                 "-O3"),
-    "O3-xfast-native": (["-O3", "--x-assign", "fast", "--x-initial", "fast", "--no-timing"],
-                        "-O3 -march=native -fno-stack-protector"),
+    "O3": (["-O3"], "-O2", False),
+    "O3-xfast": (XFAST, "-O3", False),
+    "O3-xfast-native": (XFAST, "-O3 -march=native", False),
+    "O3-xfast-pgo": (XFAST, "-O3", True),
+    "quick": (XFAST[1:], "-O1", False),     # the quickest to build: make test's soak
 }
-DEFAULT_BUILD = "O3-xfast"
+DEFAULT_BUILD = "O3-xfast-pgo"
+TRAIN_SEED = 7
 
 
 def cocotb_speed(seed: int = 1) -> dict:
@@ -173,35 +178,58 @@ def write_vectors(path: Path, axes: int, batches) -> None:
         vector_end().tofile(f)
 
 
-def harness_binary(axes: int = 3, build: str = DEFAULT_BUILD) -> tuple[Path, float]:
-    """The harness for NA=``axes`` built with ``HARNESS_BUILDS[build]`` (rebuilt when
-    the harness, the RTL or the options change); returns (executable, build seconds,
-    0 when it was up to date)."""
-    vopts, cflags = HARNESS_BUILDS[build]
-    sources = [Path(p) for p in design_sources("halfpoint_core")]
+def _verilate(work: Path, axes: int, vopts, cflags: str, ldflags: str = "") -> None:
     exe = setup_verilator_env()
-    key = hashlib.sha256()
-    for p in [HARNESS_SOURCE, *sources]:
-        key.update(p.read_bytes())
-    key.update(repr((axes, vopts, cflags)).encode())
-    work = BUILD / "harness" / f"na{axes}_{build}"
-    binary = work / "obj" / "Vhalfpoint_core"
-    stamp = work / "stamp"
-    if binary.exists() and stamp.exists() and stamp.read_text() == key.hexdigest():
-        return binary, 0.0
-    work.mkdir(parents=True, exist_ok=True)
     cmd = [str(exe), "--cc", "--exe", "--build", *vopts, "-j", "2",
            "--top-module", "halfpoint_core",
            f"-GNA={axes}", f"-GW={HARNESS_W}", f"-GDEPTH={HARNESS_DEPTH}", f"-GTW={HARNESS_TW}",
            f"-GDIV={HARNESS_DIV}", "-Wno-fatal", "-Mdir", str(work / "obj"),
            "-CFLAGS", f"{cflags} -DHP_NA={axes}", f"-I{REPO / 'rtl'}",
-           str(HARNESS_SOURCE), *(str(p) for p in sources)]
+           *(["-LDFLAGS", ldflags] if ldflags else []),
+           str(HARNESS_SOURCE), *(str(p) for p in design_sources("halfpoint_core"))]
     log = work / "build.log"
-    t0 = time.monotonic()
     proc = subprocess.run(cmd, capture_output=True, text=True)
-    log.write_text(proc.stdout + proc.stderr)
-    if proc.returncode != 0 or not binary.exists():
+    with log.open("a") as f:
+        f.write(" ".join(cmd) + "\n" + proc.stdout + proc.stderr)
+    if proc.returncode != 0 or not (work / "obj" / "Vhalfpoint_core").exists():
         raise RuntimeError(f"Verilator build of the harness failed, see {log}")
+
+
+def harness_binary(axes: int = 3, build: str = DEFAULT_BUILD) -> tuple[Path, float]:
+    """The harness for NA=``axes`` built with ``HARNESS_BUILDS[build]`` (rebuilt when
+    the harness, the RTL or the options change); returns (executable, build seconds,
+    0 when it was up to date)."""
+    vopts, cflags, pgo = HARNESS_BUILDS[build]
+    key = hashlib.sha256()
+    for p in [HARNESS_SOURCE, *(Path(p) for p in design_sources("halfpoint_core"))]:
+        key.update(p.read_bytes())
+    key.update(repr((axes, vopts, cflags, pgo, TRAIN_SEED)).encode())
+    work = BUILD / "harness" / f"na{axes}_{build}"
+    obj = work / "obj"
+    binary = obj / "Vhalfpoint_core"
+    stamp = work / "stamp"
+    if binary.exists() and stamp.exists() and stamp.read_text() == key.hexdigest():
+        return binary, 0.0
+    if work.exists():
+        shutil.rmtree(work)
+    work.mkdir(parents=True)
+    t0 = time.monotonic()
+    if pgo:
+        gen = "-fprofile-generate -fprofile-update=single"
+        _verilate(work, axes, vopts, f"{cflags} {gen}", gen)
+        batch = Batch(program(seed=TRAIN_SEED, axes=axes), axes)
+        train = work / "train.vec"
+        write_vectors(train, axes, [(0, batch, model_run(batch))])
+        res = run_harness(binary, train)
+        if not res.ok:
+            raise RuntimeError(f"harness training run: {res.failure}")
+        for f in obj.iterdir():             # keep the profiles (*.gcda), rebuild the rest
+            if f.suffix in (".o", ".a") or f == binary:
+                f.unlink()
+        _verilate(work, axes, vopts,
+                  f"{cflags} -fprofile-use -fprofile-correction -Wno-missing-profile")
+    else:
+        _verilate(work, axes, vopts, cflags)
     stamp.write_text(key.hexdigest())
     return binary, time.monotonic() - t0
 
@@ -237,7 +265,7 @@ def run_harness(binary: Path, vectors: Path, repeats: int = 1) -> HarnessResult:
 
 # --- the bench figure -------------------------------------------------------------------------
 
-def program(n: int = 300, seed: int = 1) -> list[int]:
+def program(n: int = 300, seed: int = 1, axes: int = 3) -> list[int]:
     """Random arcs and lines with planned profiles (0.2..0.45 BLU per clock)."""
     rng = random.Random(seed)
     cmds = []
@@ -245,8 +273,8 @@ def program(n: int = 300, seed: int = 1) -> list[int]:
         if rng.random() < 0.5:
             cmds.append(random_arc(rng, cont=True))
         else:
-            cmds.append(random_line(rng, 3, cont=True, scale=60))
-    return profiled(cmds, 3, 32, HARNESS_DIV,
+            cmds.append(random_line(rng, axes, cont=True, scale=60))
+    return profiled(cmds, axes, 32, HARNESS_DIV,
                     v_cruise=lambda k: int(rng.uniform(0.2, 0.45) * 2**32),
                     accel=1 << 32, rng=rng)
 
@@ -264,7 +292,8 @@ def compiled_speed(repeats: int = 200, seed: int = 1, build: str = DEFAULT_BUILD
             "clocks_per_s": round(res.clocks / res.seconds),
             "cpu_seconds": round(res.cpu_seconds, 3),
             "clocks_per_cpu_s": round(res.clocks / res.cpu_seconds),
-            "options": " ".join(HARNESS_BUILDS[build][0]) + " / " + HARNESS_BUILDS[build][1],
+            "options": " ".join(HARNESS_BUILDS[build][0]) + " / " + HARNESS_BUILDS[build][1]
+            + (" / profile-guided" if HARNESS_BUILDS[build][2] else ""),
             "moves_checked": res.moves, "build_s": round(build_s, 1), "build": build}
 
 

@@ -6,15 +6,16 @@ The segments (``random_segment``): arcs of every (start quadrant, end quadrant,
 direction) and radius class (small 1..8 BLU, medium 8..40, large 40..250, a share of
 them full circles; huge 10^3..10^8, short sweeps from near a quadrant boundary, so
 the wide arithmetic and the quadrant changes run without 10^8 moves); lines moving
-1..NA axes, short and long.  They are cut into
-batches (``make_batch``, ``--per-batch`` segments each); a batch is one job: profiles
-planned by ``spec.program.profiled`` over it (random cruise speeds, accelerations and
-junction speeds, the batch starting and ending at rest), random STEP/DIR settings,
-a random constant feed override, random feed-hold intervals, and a stream gap before
-it (the core idle with tvalid low for a random number of clocks, then reset).  Within
-a batch the commands stream back to back with back-pressure from tready, as the model
-streams them: ``spec.fastcore.run_fast`` gives the expected run, so a gap inside a
-batch would need the model to know it (see the README: gaps are between batches).
+1..NA axes, short and long.  They are cut into batches (``make_batch``,
+``--per-batch`` segments each); a batch is one job: profiles planned by
+``spec.program.profiled`` over it (random cruise speeds, accelerations and junction
+speeds, the batch starting and ending at rest), random STEP/DIR settings and
+polarities, a random constant feed override, random feed-hold intervals, and a stream
+gap before it (the core at rest with tvalid low for a random number of clocks, then
+reset).  Within a batch the commands stream back to back with back-pressure from
+tready, exactly as ``spec.fastcore.run_fast`` streams them: that model takes hold
+intervals but no tvalid pattern, so gaps while the core moves (the queue running dry
+mid-program) are not soaked here; the cocotb core tests cover them clock by clock.
 
 The model runs in ``--jobs`` worker processes; the main process writes every
 ``--chunk`` batches to a vector file and the harness (``flows.simspeed``) checks
@@ -46,14 +47,17 @@ from ..spec import profile as pf
 from ..spec.arc import lattice_point_near, quadrant, validate
 from ..spec.program import profiled
 from ..spec.stepgen import StepCfg
-from .simspeed import (HARNESS_DIV, HARNESS_W, Batch, Expected, batch_words, harness_binary,
-                       model_run, parse_harness, vector_end, vector_header)
+from .simspeed import (DEFAULT_BUILD, HARNESS_BUILDS, HARNESS_DIV, HARNESS_W, Batch, Expected,
+                       batch_words, harness_binary, model_run, parse_harness, vector_end,
+                       vector_header)
 
 RADIUS_CLASSES = {"small": (1.0, 8.0), "medium": (8.0, 40.0), "large": (40.0, 250.0),
                   "huge": (1e3, 1e8)}
 RADIUS_WEIGHTS = {"small": 0.42, "medium": 0.45, "large": 0.05, "huge": 0.08}
 HUGE_SWEEP = (6, 60)        # a huge arc's length in BLU (a short sweep, often across an axis)
 FULL_CIRCLE = 0.1           # share of small .. large arcs that are full circles
+SPEEDS = (0.02, 0.6)        # cruise speeds, BLU per clock (uniform)
+ACCELS = (1 << 30, 1 << 31, 1 << 32, 1 << 33)   # accelerations (field units), equally likely
 LINE_SHARE = 0.5            # share of segments that are lines
 LINE_SCALES = ((0.65, 12), (0.3, 60), (0.05, 400))    # (share, largest |delta|)
 
@@ -147,8 +151,8 @@ def make_batch(seed: int, index: int, axes: int, segments: int) -> tuple[Batch, 
         cmd, label = random_segment(rng, axes)
         cmds.append(cmd)
         classes[label] += 1
-    speeds = [rng.uniform(0.01, 0.6) for _ in cmds]
-    accels = [rng.choice((1 << 28, 1 << 30, 1 << 32, 1 << 33)) for _ in cmds]
+    speeds = [rng.uniform(*SPEEDS) for _ in cmds]
+    accels = [rng.choice(ACCELS) for _ in cmds]
     prog = profiled(cmds, axes, HARNESS_W, HARNESS_DIV,
                     v_cruise=lambda k: int(speeds[k] * 2**pf.FIELD_SPEED_FRAC),
                     accel=lambda k: accels[k], rng=rng)
@@ -164,22 +168,23 @@ def make_batch(seed: int, index: int, axes: int, segments: int) -> tuple[Batch, 
 class Computed:
     index: int
     words: bytes                    # the batch in the vector file's format
+    segments: int
     moves: int
     clocks: int
     classes: Counter = field(default_factory=Counter)
-    seconds: float = 0.0            # the worker's time on it (planning and model)
+    seconds: float = 0.0            # the worker's CPU time on it (planning and model)
 
 
 def compute(args) -> Computed:
     """A worker's job: build batch ``index`` and run the model on it."""
     seed, index, axes, segments, corrupt = args
-    t0 = time.perf_counter()
+    t0 = time.process_time()
     batch, classes = make_batch(seed, index, axes, segments)
     exp = model_run(batch)
     if corrupt is not None and exp.times:
         exp = corrupted(exp, corrupt)
-    return Computed(index, batch_words(index, batch, exp).tobytes(), len(exp.times),
-                    exp.clocks, classes, time.perf_counter() - t0)
+    return Computed(index, batch_words(index, batch, exp).tobytes(), segments, len(exp.times),
+                    exp.clocks, classes, time.process_time() - t0)
 
 
 def corrupted(exp: Expected, move: int) -> Expected:
@@ -200,7 +205,8 @@ class SoakResult:
     clocks: int = 0
     harness_seconds: float = 0.0
     wall_seconds: float = 0.0
-    model_seconds: float = 0.0      # the workers' time, summed (planning and model)
+    model_seconds: float = 0.0      # the workers' CPU time, summed (planning and model)
+    harness_cpu_seconds: float = 0.0
     classes: Counter = field(default_factory=Counter)
     failure: str = ""
     failed_batch: int | None = None
@@ -208,13 +214,15 @@ class SoakResult:
     repro: str = ""
 
 
-def repro_command(seed: int, axes: int, per_batch: int, batch: int) -> str:
-    return (f"{shlex.quote(sys.executable)} -m halfpoint.flows.soak --seed {seed} --axes {axes} "
-            f"--per-batch {per_batch} --only-batch {batch}")
+def repro_command(segments: int, seed: int, axes: int, per_batch: int, batch: int) -> str:
+    return (f"{shlex.quote(sys.executable)} -m halfpoint.flows.soak --segments {segments} "
+            f"--seed {seed} --axes {axes} --per-batch {per_batch} --only-batch {batch} --jobs 1")
 
 
-def _check_chunk(binary, path: Path, chunk: list, seed: int, axes: int, per_batch: int,
-                 res: SoakResult, proc: subprocess.Popen) -> bool:
+def _check_chunk(path: Path, chunk: list, proc: subprocess.Popen, res: SoakResult,
+                 segments: int, seed: int, axes: int, per_batch: int) -> bool:
+    """Wait for the harness on one vector file; False (and ``res`` says why) on a
+    mismatch, the file kept."""
     out, err = proc.communicate()
     verdict = parse_harness(subprocess.CompletedProcess(proc.args, proc.returncode, out, err))
     if not verdict.ok:
@@ -224,13 +232,15 @@ def _check_chunk(binary, path: Path, chunk: list, seed: int, axes: int, per_batc
         res.failed_batch = int(words[2].rstrip(":")) if len(words) > 2 and \
             words[1] == "batch" else chunk[0].index
         res.vectors = path
-        res.repro = repro_command(seed, axes, per_batch, res.failed_batch)
+        res.repro = repro_command(segments, seed, axes, per_batch, res.failed_batch)
         return False
     res.batches += verdict.batches
     res.moves += verdict.moves
     res.clocks += verdict.clocks
     res.harness_seconds += verdict.seconds
+    res.harness_cpu_seconds += verdict.cpu_seconds
     for c in chunk:
+        res.segments += c.segments
         res.classes.update(c.classes)
     path.unlink()
     return True
@@ -238,18 +248,21 @@ def _check_chunk(binary, path: Path, chunk: list, seed: int, axes: int, per_batc
 
 def soak(segments: int = 1_000_000, seed: int = 1, axes: int = 3, per_batch: int = 100,
          jobs: int = 2, chunk: int = 50, only_batch: int | None = None,
-         corrupt: tuple[int, int] | None = None, out=None, build: str | None = None) -> SoakResult:
+         corrupt: tuple[int, int] | None = None, out=None,
+         build: str = DEFAULT_BUILD) -> SoakResult:
     """Run the soak; ``corrupt`` = (batch, move) alters that expected move (a check
     that the checker fails)."""
     t0 = time.monotonic()
-    binary, _ = harness_binary(axes) if build is None else harness_binary(axes, build)
+    binary, _ = harness_binary(axes, build)
     work = BUILD / "soak" / f"na{axes}_seed{seed}"
     work.mkdir(parents=True, exist_ok=True)
     nbatch = -(-segments // per_batch)
+    if only_batch is not None and not 0 <= only_batch < nbatch:
+        raise ValueError(f"batch {only_batch} is not one of the {nbatch} batches")
     indices = [only_batch] if only_batch is not None else list(range(nbatch))
-    jobs_args = [(seed, i, axes, per_batch if only_batch is not None or i < nbatch - 1
-                  else segments - per_batch * (nbatch - 1),
+    jobs_args = [(seed, i, axes, min(per_batch, segments - per_batch * i),
                   corrupt[1] if corrupt and corrupt[0] == i else None) for i in indices]
+    total = sum(a[3] for a in jobs_args)
     res = SoakResult(True)
     pending = None              # (path, chunk, Popen) the harness is checking
     model_s = 0.0
@@ -268,30 +281,28 @@ def soak(segments: int = 1_000_000, seed: int = 1, axes: int = 3, per_batch: int
     pool = multiprocessing.Pool(jobs) if jobs > 1 and len(jobs_args) > 1 else None
     try:
         it = pool.imap(compute, jobs_args) if pool else map(compute, jobs_args)
-        buf, n = [], 0
+        buf, n, done = [], 0, 0
         last = time.monotonic()
         for c in it:
             buf.append(c)
             model_s += c.seconds
-            res.segments += jobs_args[c.index - indices[0]][3]
-            if len(buf) >= chunk or res.segments >= sum(a[3] for a in jobs_args):
-                if pending and not _check_chunk(binary, *pending[:2], seed, axes, per_batch,
-                                                res, pending[2]):
+            done += c.segments
+            if len(buf) >= chunk or done >= total:
+                if pending and not _check_chunk(*pending, res, segments, seed, axes,
+                                                per_batch):
                     break
                 pending = flush(buf, n)
                 buf, n = [], n + 1
                 if out and time.monotonic() - last > 30:
                     last = time.monotonic()
-                    print(f"  {res.segments} segments computed, {res.moves} moves checked, "
+                    print(f"  {done} segments computed, {res.segments} checked, "
                           f"{time.monotonic() - t0:.0f} s", file=out, flush=True)
         if res.ok and pending:
-            _check_chunk(binary, *pending[:2], seed, axes, per_batch, res, pending[2])
+            _check_chunk(*pending, res, segments, seed, axes, per_batch)
     finally:
         if pool:
             pool.terminate()
             pool.join()
-    if not res.ok:
-        res.segments = 0 if res.failed_batch is None else res.segments
     res.wall_seconds = time.monotonic() - t0
     res.model_seconds = model_s
     return res
@@ -306,12 +317,14 @@ def report(res: SoakResult, seed: int, axes: int, out=None) -> None:
         print(f"  reproduce: {res.repro}", file=out)
         return
     rate = res.clocks / res.harness_seconds if res.harness_seconds else float("nan")
+    cpu_rate = res.clocks / res.harness_cpu_seconds if res.harness_cpu_seconds else float("nan")
     print(f"soak passed: {res.segments} segments in {res.batches} batches, seed {seed}, "
           f"NA {axes}, W {HARNESS_W}", file=out)
     print(f"  {res.moves} moves and {res.clocks} clocks checked; harness "
-          f"{rate / 1e6:.2f} M clocks/s ({res.harness_seconds:.1f} s), wall "
-          f"{res.wall_seconds:.1f} s (model and planning {res.model_seconds:.1f} s "
-          f"summed over the workers)", file=out)
+          f"{rate / 1e6:.2f} M clocks/s ({res.harness_seconds:.1f} s; "
+          f"{cpu_rate / 1e6:.2f} M clocks per CPU second)", file=out)
+    print(f"  wall {res.wall_seconds:.1f} s; model and planning {res.model_seconds:.1f} CPU s "
+          f"over the workers", file=out)
     arcs = Counter()
     for label, n in res.classes.items():
         if label[0] == "arc":
@@ -335,6 +348,8 @@ def main(argv=None) -> int:
     ap.add_argument("--jobs", type=int, default=int(os.environ.get("JOBS", 2)))
     ap.add_argument("--chunk", type=int, default=50, help="batches per harness run")
     ap.add_argument("--only-batch", type=int, help="run only this batch (reproduce a failure)")
+    ap.add_argument("--build", choices=sorted(HARNESS_BUILDS), default=DEFAULT_BUILD,
+                    help="the harness's build variant (flows.simspeed)")
     ap.add_argument("--corrupt", type=int, nargs=2, metavar=("BATCH", "MOVE"),
                     help="alter one expected move (to see the checker fail)")
     a = ap.parse_args(argv)
@@ -343,7 +358,7 @@ def main(argv=None) -> int:
     if a.segments < 1 or a.per_batch < 1:
         ap.error("--segments and --per-batch must be positive")
     res = soak(a.segments, a.seed, a.axes, a.per_batch, a.jobs, a.chunk, a.only_batch,
-               tuple(a.corrupt) if a.corrupt else None, out=sys.stdout)
+               tuple(a.corrupt) if a.corrupt else None, out=sys.stdout, build=a.build)
     report(res, a.seed, a.axes)
     return 0 if res.ok else 1
 
