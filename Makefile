@@ -10,6 +10,9 @@
 #   make formal  SymbiYosys proofs (all tasks) and mutants, table + build/formal/report.json
 #   make mutate  mutation testing (Yosys mutate, MUTANTS per module, seeded), table +
 #                build/mutate/report.json; MODULES= limits it (default: every module)
+#   make soak    SEGMENTS random arcs and lines (default 10^6, SEED, SOAK_AXES = NA 2..6)
+#                through the compiled Verilator harness, checked move by move
+#                against the model (JOBS model workers)
 #   make clean   remove build/ (keeps .venv/)
 
 PYTHON  ?= python3
@@ -18,11 +21,14 @@ VPY     := $(VENV)/bin/python
 STAMP   := $(VENV)/.setup-done
 JOBS    ?= 2
 
-.PHONY: setup test lint demo bench synth boards formal mutate clean distclean
+.PHONY: setup test lint demo bench synth boards formal mutate soak clean distclean
 
 SEEDS   ?= 3
 MUTANTS ?= 200
 MODULES ?=
+SEGMENTS ?= 1000000
+SEED    ?= 1
+SOAK_AXES ?= 3
 
 setup: $(STAMP)
 
@@ -54,6 +60,10 @@ formal: setup
 
 mutate: setup
 	$(VPY) -m halfpoint.flows.mutate --count $(MUTANTS) --jobs $(JOBS) $(MODULES)
+
+soak: setup
+	$(VPY) -m halfpoint.flows.soak --segments $(SEGMENTS) --seed $(SEED) \
+		--axes $(SOAK_AXES) --jobs $(JOBS)
 
 boards: setup
 	$(VPY) -m halfpoint.flows.synth --boards-only --jobs $(JOBS)

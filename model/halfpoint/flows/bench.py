@@ -468,6 +468,7 @@ def main() -> int:
         "max_step_rate_hz_per_axis": rate * CLOCK_HZ,
         "sim_clocks_per_s_cocotb": sim_cocotb and sim_cocotb["clocks_per_s"],
         "sim_clocks_per_s_compiled": sim_compiled and sim_compiled["clocks_per_s"],
+        "sim_clocks_per_cpu_s_compiled": sim_compiled and sim_compiled["clocks_per_cpu_s"],
         "comp_blocks_per_s": round(comp_bps),
     }
     notes = {
@@ -500,10 +501,17 @@ def main() -> int:
         "sim_clocks_per_s_cocotb": "core NA=3 W=32, cocotb mixed_program test, model compared every clock"
                                    + (f" ({sim_cocotb['clocks']} clocks in {sim_cocotb['seconds']} s)"
                                       if sim_cocotb else ""),
-        "sim_clocks_per_s_compiled": "core NA=3 W=32, Verilator -O3 C++ harness, every move's clock and "
-                                     "positions checked against the model"
-                                     + (f" ({sim_compiled['clocks']} clocks in {sim_compiled['seconds']} s)"
-                                        if sim_compiled else ""),
+        "sim_clocks_per_s_compiled": "core NA=3 W=32, compiled Verilator harness "
+                                     "(tb/halfpoint_core/speed_harness.cpp), every move's clock "
+                                     "and positions checked against the model's precomputed "
+                                     "moves; wall time of the simulation loop"
+                                     + (f" ({sim_compiled['clocks']} clocks in "
+                                        f"{sim_compiled['seconds']} s; build "
+                                        f"{sim_compiled['options']})" if sim_compiled else ""),
+        "sim_clocks_per_cpu_s_compiled": "the same over the loop's CPU time (a shared machine's "
+                                         "load does not count)"
+                                         + (f" ({sim_compiled['cpu_seconds']} s)"
+                                            if sim_compiled else ""),
         "comp_blocks_per_s": "G42 compensation + quantisation of a 100,000-block CAM-style program "
                              f"(20 noisy contours of 0.05 mm segments; {comp_skipped} blocks skipped), "
                              "one core, parsing excluded",
