@@ -116,7 +116,7 @@ MUTANTS = [
            ("prove_na2_w8",),
            "a command taken while another is validated or pending (one is lost)"),
     Mutant("line_moves_short", "halfpoint_line", "rtl/halfpoint_line.v",
-           "moves_left_q <= pend_moves_q;", "moves_left_q <= pend_moves_q - ONE_W;",
+           "moves_left_q <= max_abs_q;", "moves_left_q <= max_abs_q - ONE_W;",
            ("ends_na1_w8",),
            "a segment one move short of Max"),
 ]
