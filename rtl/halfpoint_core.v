@@ -347,8 +347,14 @@ module halfpoint_core #(
 
     // queue entry: {payload, flags}; payload = line deltas, the arc's start and
     // end relative to the centre {ye, xe, ys, xs} and its helix {signs,
-    // magnitudes, count, v, u}, or a profile
-    localparam integer ARC_W     = 6 * W + 40;
+    // magnitudes, count, v, u}, or a profile.  The arc payload's fields, from
+    // bit 0 (xs, ys, xe, ye: W bits each at 0, W, 2W, 3W):
+    localparam integer ARC_U_AT         = 4 * W;                 // 3 bits
+    localparam integer ARC_V_AT         = ARC_U_AT + 3;          // 3 bits
+    localparam integer ARC_COUNT_AT     = ARC_V_AT + 3;          // 32 bits
+    localparam integer ARC_MAGNITUDE_AT = ARC_COUNT_AT + 32;     // 2 slots of W bits
+    localparam integer ARC_NEGATIVE_AT  = ARC_MAGNITUDE_AT + 2 * W;  // 2 bits
+    localparam integer ARC_W            = ARC_NEGATIVE_AT + 2;
     localparam integer MOTION_W  = (NA * W > ARC_W) ? NA * W : ARC_W;
     localparam integer PAYLOAD_W = (MOTION_W > PROFILE_W) ? MOTION_W : PROFILE_W;
     localparam integer FLAGS_W   = 11;
@@ -577,12 +583,12 @@ module halfpoint_core #(
         .rst             (rst),
         .flush           (flush),
         .take            (arc_take),
-        .take_u          (head_payload[4*W +: 3]),
-        .take_v          (head_payload[4*W+3 +: 3]),
-        .take_count      (head_payload[4*W+6 +: 32]),
-        .take_magnitude0 (head_payload[4*W+38 +: W]),
-        .take_magnitude1 (head_payload[5*W+38 +: W]),
-        .take_negative   (head_payload[6*W+38 +: 2]),
+        .take_u          (head_payload[ARC_U_AT +: 3]),
+        .take_v          (head_payload[ARC_V_AT +: 3]),
+        .take_count      (head_payload[ARC_COUNT_AT +: 32]),
+        .take_magnitude0 (head_payload[ARC_MAGNITUDE_AT +: W]),
+        .take_magnitude1 (head_payload[ARC_MAGNITUDE_AT + W +: W]),
+        .take_negative   (head_payload[ARC_NEGATIVE_AT +: 2]),
         .load            (arc_loading),
         .move            (move_room && arc_run),
         .last            (arc_ending),
@@ -789,13 +795,15 @@ module halfpoint_core #(
     wire [NA-1:0] pop_dir  = head_after_pop[2*NA-1:NA];
     wire [NA-1:0] wait_step = head_after_wait[NA-1:0];
     wire [NA-1:0] wait_dir  = head_after_wait[2*NA-1:NA];
-    // each axis ready at the next clock for the direction of either head
-    wire [NA-1:0] pop_axis_ready = ~head_step & ((~(pop_dir ^ stepgen_direction)
-                                                  & next_ready_same)
-                                                 | ((pop_dir ^ stepgen_direction)
-                                                    & next_ready_reverse));
-    wire [NA-1:0] wait_axis_ready = (~(wait_dir ^ stepgen_direction) & next_ready_same)
-                                    | ((wait_dir ^ stepgen_direction) & next_ready_reverse);
+    // each axis ready at the next clock for a move in direction move_dir: the
+    // lookahead for DIR's present level, or for a reversal
+    function [NA-1:0] ready_next(input [NA-1:0] move_dir);
+        ready_next = (~(move_dir ^ stepgen_direction) & next_ready_same)
+                     | ((move_dir ^ stepgen_direction) & next_ready_reverse);
+    endfunction
+    // a popped move's axes are busy at the next clock
+    wire [NA-1:0] pop_axis_ready  = ~head_step & ready_next(pop_dir);
+    wire [NA-1:0] wait_axis_ready = ready_next(wait_dir);
     wire          ready_after_pop = &(~pop_step | pop_axis_ready);
     wire          ready_after_wait = &(~wait_step | wait_axis_ready);
     reg           steps_ready_q;
