@@ -796,14 +796,24 @@ module halfpoint_core #(
     wire [NA-1:0] wait_step = head_after_wait[NA-1:0];
     wire [NA-1:0] wait_dir  = head_after_wait[2*NA-1:NA];
     // each axis ready at the next clock for a move in direction move_dir: the
-    // lookahead for DIR's present level, or for a reversal
-    function [NA-1:0] ready_next(input [NA-1:0] move_dir);
-        ready_next = (~(move_dir ^ stepgen_direction) & next_ready_same)
-                     | ((move_dir ^ stepgen_direction) & next_ready_reverse);
+    // lookahead for DIR's present level, or for a reversal.  Every signal it
+    // reads is an argument: Icarus re-evaluates a continuous assignment that
+    // calls a function only when the arguments change
+    function [NA-1:0] ready_next(
+        input [NA-1:0] move_dir,
+        input [NA-1:0] present_dir,
+        input [NA-1:0] ready_same,
+        input [NA-1:0] ready_reverse
+    );
+        ready_next = (~(move_dir ^ present_dir) & ready_same)
+                     | ((move_dir ^ present_dir) & ready_reverse);
     endfunction
     // a popped move's axes are busy at the next clock
-    wire [NA-1:0] pop_axis_ready  = ~head_step & ready_next(pop_dir);
-    wire [NA-1:0] wait_axis_ready = ready_next(wait_dir);
+    wire [NA-1:0] pop_axis_ready = ~head_step
+                                   & ready_next(pop_dir, stepgen_direction,
+                                                next_ready_same, next_ready_reverse);
+    wire [NA-1:0] wait_axis_ready = ready_next(wait_dir, stepgen_direction,
+                                               next_ready_same, next_ready_reverse);
     wire          ready_after_pop = &(~pop_step | pop_axis_ready);
     wire          ready_after_wait = &(~wait_step | wait_axis_ready);
     reg           steps_ready_q;
