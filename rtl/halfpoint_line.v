@@ -279,9 +279,12 @@ module halfpoint_line #(
     //              term E_i = 2 F_i + 2|d_i| - Max - 1 stays within its bounds
     //              [2|d_i| - 2 Max, 2|d_i| - 1];
     //   ends       (F_ENDS) at done, every axis has made exactly |d_i| steps,
-    //              never more before: its invariant F_i = n|d_i| - s_i Max is
-    //              a product, which k-induction does not close in reasonable
-    //              time, so the sby tasks ends_* check it bounded (bmc);
+    //              never more before.  An induction would need the product
+    //              invariant F_i = n|d_i| - s_i Max, which did not close in
+    //              reasonable time, so the sby tasks ends_* check it bounded
+    //              (bmc) without the product: it relates monitor counters
+    //              only, and asserting it made each bmc step a multiplication
+    //              problem (the lean line unit's bmc did not finish with it);
     //   outputs    move, step, done, reject are the registered views of the
     //              edge before.
     // Labels: a_* the contract, i_* invariants that tie the RTL state to the
@@ -290,7 +293,7 @@ module halfpoint_line #(
     // generate loop the label is the comment after `assert(` (Yosys would
     // see one label many times).  rst and abort_now are free (rst high on the
     // first clock).
-    localparam integer F_PW = 2 * W + 4;         // products n|d|, s Max and their sums
+    localparam integer F_PW = 2 * W + 4;         // the monitor's F, 2F, E_i and bounds
     // |d_i| <= 2^(W-1): the bound that sizes E_i (W+1 bits) and the increments
     localparam [W-1:0] F_ABS_BOUND = {1'b1, {(W-1){1'b0}}};
 
@@ -436,11 +439,6 @@ module halfpoint_line #(
                     assert($signed(f_ewide) < $signed(f_ehold));  // a_e_high
                     assert($signed(f_dev << 1) > -$signed(f_maxw)  // a_error
                            && $signed(f_dev << 1) <= $signed(f_maxw));
-`ifdef F_ENDS
-                    // F = n|d| - s Max (a product: task ends only)
-                    assert(f_dev == {{(W+4){1'b0}}, f_moves} * f_absw  // i_dev
-                                    - {{(W+4){1'b0}}, f_s} * f_maxw);
-`endif
                     assert(f_abs <= f_run_max);  // i_abs_le_max
                     if (f_abs == f_run_max) begin
                         assert(steps[f_i]);  // a_longest
