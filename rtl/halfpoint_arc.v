@@ -693,6 +693,398 @@ module halfpoint_arc #(
         end
     end
 
+`ifdef FORMAL
+    // ========================================================================
+    // Formal properties (SymbiYosys: formal/halfpoint_arc.sby, run by
+    // python -m halfpoint.flows.formal).  Verilator, Icarus and the cocotb
+    // builds do not define FORMAL, so they see the module above unchanged.
+    // ========================================================================
+    // A monitor follows every command from acceptance to its end: the slot
+    // (f_slot_*: the command being validated or pending, with its R^2, |E|^2
+    // and the reject code it must get, computed here by multiplication) and
+    // the running arc (f_run_*: its R^2 and the moves made), and asserts:
+    //   handshake  s_ready only with the validator empty and no abort; the
+    //              master holds s_valid and the command until taken (assumed);
+    //   no loss    a taken command is validated in W + 5 clocks, then either
+    //              rejected and never loaded (F_SQUARER: with the code of its
+    //              check, 1 R = 0, 2 R^2 > (M-1)(M-2), 3 end off the circle),
+    //              or loaded into the run stage from the pending slot and run
+    //              to its done; only abort_now or rst drops it; busy iff a
+    //              command is held anywhere;
+    //   increments every increment register equals its formula in u, v, F
+    //              (README, "Pipeline"): D1 = F - 2u + v + 1, D2 = F - u + 2v
+    //              + 1, P3 = -2u + 2v + 5, Q1 = -2u + 2, Q2 = 2v + 3, Q4 = -3v,
+    //              G1 = -2u + 1, G3 = -2u + 2v + 2, in the pending slot and at
+    //              every move of the run stage;
+    //   circle     (F_RUN_CIRCLE) the bound -(|x| + |y|) <= F < |x| + |y|
+    //              (the point within about half a BLU of the circle) for the
+    //              run stage and the f output, and the range 1 <= u <= M - 2,
+    //              v <= M - 2 (no datapath overflow); without F_RUN_CIRCLE
+    //              that range is ASSUMED in the run stage (it follows from the
+    //              circle, whose induction did not finish); F_SQUARER adds
+    //              F = u^2 + v^2 - R^2 = x^2 + y^2 - R^2;
+    //   frame      the point (x, y) is (+-u, +-v) or (+-v, +-u) by quadrant and
+    //              direction (README, "The algorithm in brief");
+    //   steps      a move changes each axis by at most one BLU, step_x/step_y
+    //              exactly when it changes, dir_x/dir_y its sign, held between
+    //              steps; x, y, f, move, done, reject are the registered views
+    //              of the edge before;
+    // (Termination, at most 5(2 floor(R) + 2) + 1 moves, is not checked here.)
+    // Labels: a_* the contract, i_* invariants that tie the validator's
+    // registers and the run stage to the monitor so that k-induction closes
+    // (F_SQUARER: the shift-and-add partial product of the squaring).  rst,
+    // en, start_en and abort_now are free (rst high on the first clock).
+    // F_PROTOCOL_ONLY leaves out the run stage's invariants (a quick proof).
+    // F_SQUARER (no sby task: its induction did not finish in 5 minutes, a
+    // bmc of it stalled at step 5) and F_SQUARE_ASSUMED (its squaring
+    // invariants assumed) are kept for a faster solver.
+`ifdef F_SQUARER
+`define F_CIRCLE
+`endif
+    localparam integer F_PW = 2 * W + 4;                    // squares and their sums
+    localparam [W-1:0] F_MAG_MAX = {1'b0, {(W-2){1'b1}}, 1'b0};     // M - 2
+    localparam [F_PW-1:0] F_R2_MAX = {2'b00, RADIUS_SQUARE_MAX};
+
+    reg f_past_valid;
+    initial f_past_valid = 1'b0;
+    always @(posedge clk)
+        f_past_valid <= 1'b1;
+    always @(*)
+        if (!f_past_valid)
+            assume(rst);
+
+    // valid/ready: a command offered and not taken stays offered, unchanged
+    always @(posedge clk)
+        if (f_past_valid && !$past(rst) && $past(s_valid && !s_ready)) begin
+            assume(s_valid);
+            assume(s_cw == $past(s_cw));
+            assume(s_xs == $past(s_xs) && s_ys == $past(s_ys));
+            assume(s_xe == $past(s_xe) && s_ye == $past(s_ye));
+        end
+
+    function [F_PW-1:0] f_wide;                 // zero-extended magnitude
+        input [W-1:0] f_a;
+        begin
+            f_wide = {{(F_PW-W){1'b0}}, (f_a[W-1] ? (~f_a + ONE_W) : f_a)};
+        end
+    endfunction
+
+    // the slot: the command being validated or pending
+    reg           f_slot_valid, f_slot_cw;
+    reg  [W-1:0]  f_slot_xs, f_slot_ys, f_slot_xe, f_slot_ye;
+    reg  [5:0]    f_slot_age;                   // clocks since taken (saturating)
+    wire [F_PW-1:0] f_axs = f_wide(f_slot_xs), f_ays = f_wide(f_slot_ys);
+    wire [F_PW-1:0] f_axe = f_wide(f_slot_xe), f_aye = f_wide(f_slot_ye);
+    wire [F_PW-1:0] f_slot_tol = (f_axs > f_ays) ? (f_axs << 1) : (f_ays << 1);
+`ifdef F_CIRCLE
+    wire [F_PW-1:0] f_slot_r2 = f_axs * f_axs + f_ays * f_ays;
+    wire [F_PW-1:0] f_slot_e2 = f_axe * f_axe + f_aye * f_aye;
+    wire [1:0]      f_slot_err =
+        (f_slot_r2 == {F_PW{1'b0}}) ? 2'd1 : (f_slot_r2 > F_R2_MAX) ? 2'd2
+        : (f_slot_e2 > f_slot_r2 + f_slot_tol || f_slot_r2 > f_slot_e2 + f_slot_tol) ? 2'd3
+        : 2'd0;
+`endif
+
+    // the running arc
+    reg             f_run_valid, f_run_cw;
+    reg  [F_PW-1:0] f_run_r2;
+    reg  [W-1:0]    f_run_xs, f_run_ys;
+    reg             f_run_full;                 // start = end: a full circle
+    reg  [15:0]     f_moves;
+    // the arc of the last move (for the registered outputs), the point before
+    reg  [F_PW-1:0] f_out_r2;
+    reg  [W-1:0]    f_out_xs, f_out_ys, f_px_d, f_py_d;
+    reg             f_out_full;
+
+    always @(posedge clk) begin
+        f_px_d <= point_x_q;
+        f_py_d <= point_y_q;
+        if (advance) begin
+`ifdef F_CIRCLE
+            f_out_r2   <= f_run_r2;
+`endif
+            f_out_xs   <= f_run_xs;
+            f_out_ys   <= f_run_ys;
+            f_out_full <= f_run_full;
+        end
+        if (rst || abort_now) begin
+            f_slot_valid <= 1'b0;
+            f_run_valid  <= 1'b0;
+        end else begin
+            if (f_slot_age != 6'h3f) f_slot_age <= f_slot_age + 6'd1;
+            if (rejecting || load) f_slot_valid <= 1'b0;
+            if (accept) begin
+                f_slot_valid <= 1'b1;
+                f_slot_cw    <= s_cw;
+                f_slot_xs    <= s_xs;
+                f_slot_ys    <= s_ys;
+                f_slot_xe    <= s_xe;
+                f_slot_ye    <= s_ye;
+                f_slot_age   <= 6'd0;
+            end
+            if (advance) f_moves <= f_moves + 16'd1;
+            if (last) f_run_valid <= 1'b0;
+            if (load) begin
+                f_run_valid <= 1'b1;
+                f_run_cw    <= f_slot_cw;
+`ifdef F_CIRCLE
+                f_run_r2    <= f_slot_r2;
+`endif
+                f_run_xs    <= f_slot_xs;
+                f_run_ys    <= f_slot_ys;
+                f_run_full  <= (f_slot_xs == f_slot_xe) && (f_slot_ys == f_slot_ye);
+                f_moves     <= 16'd0;
+            end
+        end
+    end
+
+    // ---- handshake, no loss, validation ----
+    wire f_square = (validator_state_q == STATE_SQUARE);
+    // the validator has passed the first, second, third squaring clock
+    wire f_after0 = (validator_state_q > STATE_SQUARE) || (f_square && square_count_q >= 6'd1);
+    wire f_after1 = (validator_state_q > STATE_SQUARE) || (f_square && square_count_q >= 6'd2);
+    wire f_after2 = (validator_state_q > STATE_SQUARE) || (f_square && square_count_q >= 6'd3);
+    always @(*)
+        if (f_past_valid && !rst) begin
+            a_ready_empty: assert(!s_ready || (!f_slot_valid && !abort_now));
+            a_slot_held:   assert(f_slot_valid == (validator_state_q != STATE_IDLE));
+            a_run_held:    assert(f_run_valid == run_q);
+            a_busy:        assert(busy == (f_slot_valid || f_run_valid));
+            i_state:       assert(validator_state_q <= STATE_HOLD);
+            i_hold:        assert(hold_q == (validator_state_q == STATE_HOLD));
+            if (rejecting) begin
+                a_reject_slot: assert(f_slot_valid && !load);
+`ifdef F_SQUARER
+                a_reject_code: assert(f_slot_err != 2'd0 && decide_error == f_slot_err);
+`endif
+            end
+            if (load) begin
+                a_load_valid: assert(f_slot_valid && validator_state_q == STATE_HOLD);
+`ifdef F_SQUARER
+                a_load_ok: assert(f_slot_err == 2'd0);
+`endif
+            end
+            // validation: W clocks of squaring, sum, check, decide, init, hold
+            if (f_square) begin
+                a_square_time: assert(f_slot_age == square_count_q);
+                i_square_last: assert(square_count_q <= SQUARE_LAST[5:0]);
+            end
+            if (validator_state_q == STATE_SUM)
+                a_sum_time: assert(f_slot_age == W);
+            if (validator_state_q == STATE_CHECK)
+                a_check_time: assert(f_slot_age == W + 1);
+            if (validator_state_q == STATE_DECIDE)
+                a_decide_time: assert(f_slot_age == W + 2);
+            if (validator_state_q == STATE_INIT)
+                a_init_time: assert(f_slot_age == W + 3);
+            if (validator_state_q == STATE_HOLD)
+                a_hold_time: assert(f_slot_age >= W + 4);
+        end
+
+    // ---- the validator's registers hold the command taken ----
+`ifdef F_SQUARER
+    // F_SQUARE_ASSUMED: the squaring invariants are assumed (proven by the
+    // task square_w8, which asserts them without assuming anything else)
+`ifdef F_SQUARE_ASSUMED
+`define F_SQ assume
+`else
+`define F_SQ assert
+`endif
+    // the shift-and-add register after k clocks: (a >> k) + (a (a mod 2^k) +
+    // b (b mod 2^k)) 2^(W-k)
+    wire [F_PW-1:0] f_mask = ({{(F_PW-1){1'b0}}, 1'b1} << square_count_q) - 1'b1;
+    wire [F_PW-1:0] f_r2_part = (f_axs >> square_count_q)
+        + ((f_axs * (f_axs & f_mask) + f_ays * (f_ays & f_mask)) << (W - square_count_q));
+    wire [F_PW-1:0] f_e2_part = (f_axe >> square_count_q)
+        + ((f_axe * (f_axe & f_mask) + f_aye * (f_aye & f_mask)) << (W - square_count_q));
+    wire [F_PW-1:0] f_r2_reg = {3'b000, radius_square_q};
+    wire [F_PW-1:0] f_e2_reg = {3'b000, end_square_q};
+`endif
+    // the start and end frames, as the README defines them
+    wire [1:0]   f_start_quad = quadrant_of(f_slot_cw, f_slot_xs, f_slot_ys);
+    wire [1:0]   f_end_quad   = quadrant_of(f_slot_cw, f_slot_xe, f_slot_ye);
+    wire         f_start_ux   = (f_start_quad[0] == f_slot_cw);
+    wire         f_end_ux     = (f_end_quad[0] == f_slot_cw);
+    wire [W-1:0] f_pu  = f_start_ux ? magnitude(f_slot_xs) : magnitude(f_slot_ys);
+    wire [W-1:0] f_pv  = f_start_ux ? magnitude(f_slot_ys) : magnitude(f_slot_xs);
+    wire [W-1:0] f_pue = f_end_ux ? magnitude(f_slot_xe) : magnitude(f_slot_ye);
+    wire [W-1:0] f_pve = f_end_ux ? magnitude(f_slot_ye) : magnitude(f_slot_xe);
+    wire [DATA_W-1:0] f_pud = {2'b00, f_pu};
+    wire [DATA_W-1:0] f_pvd = {2'b00, f_pv};
+    always @(*)
+        if (f_past_valid && !rst && f_slot_valid) begin
+            i_cmd_cw:   assert(cmd_cw_q == f_slot_cw);
+            i_cmd_xs:   assert(cmd_xs_q == f_slot_xs && cmd_ys_q == f_slot_ys);
+            i_abs_s:    assert(abs_xs_q == magnitude(f_slot_xs)
+                               && abs_ys_q == magnitude(f_slot_ys));
+            i_abs_e:    assert(abs_xe_q == magnitude(f_slot_xe)
+                               && abs_ye_q == magnitude(f_slot_ye));
+            i_end_quad: assert(pend_end_quad_q == f_end_quad);
+`ifdef F_SQUARER
+            if (f_square) begin
+                i_mult_s:   `F_SQ(multiplier_ys_q == (abs_ys_q >> square_count_q));
+                i_mult_e:   `F_SQ(multiplier_ye_q == (abs_ye_q >> square_count_q));
+                i_r2_part:  `F_SQ(f_r2_reg == f_r2_part);
+                i_e2_part:  `F_SQ(f_e2_reg == f_e2_part);
+            end
+            if (validator_state_q == STATE_SUM || validator_state_q == STATE_CHECK) begin
+                i_r2: `F_SQ(f_r2_reg == f_slot_r2);
+                i_e2: `F_SQ(f_e2_reg == f_slot_e2);
+            end
+`endif
+            if (f_after0) begin
+                i_zero:  assert(radius_zero_q == (f_slot_xs == {W{1'b0}}
+                                                  && f_slot_ys == {W{1'b0}}));
+                i_tol:   assert({{(F_PW-W-1){1'b0}}, tolerance_q} == f_slot_tol);
+                i_quad:  assert(pend_quad_q == f_start_quad);
+                i_uv:    assert(pend_u_q == f_pu && pend_v_q == f_pv);
+                i_uve:   assert(pend_ue_q == f_pue && pend_ve_q == f_pve);
+            end
+`ifdef F_SQUARER
+            if (validator_state_q >= STATE_DECIDE) begin
+                i_too_big: assert(radius_too_big_q == (f_slot_r2 > F_R2_MAX));
+                i_off:     assert((end_outside_q || end_inside_q)
+                                  == (f_slot_e2 > f_slot_r2 + f_slot_tol
+                                      || f_slot_r2 > f_slot_e2 + f_slot_tol));
+            end
+            if (validator_state_q >= STATE_INIT)
+                a_pend_ok: assert(f_slot_err == 2'd0);
+`endif
+            // the pending slot's increments (F = 0 at the start point)
+            if (f_after1) begin
+                i_p_q1:  assert(pend_d2_add_b_q == TWO_D - (f_pud << 1));
+                i_p_q2:  assert(pend_d2_add_c_q == (f_pvd << 1) + THREE_D);
+                i_p_g1:  assert(pend_f_add_b_q == ONE_D - (f_pud << 1));
+                i_p_v3:  assert(init_v_times3_q == f_pvd + (f_pvd << 1));
+                i_p_vu:  assert(init_v_minus_u_twice_q == (f_pvd - f_pud) << 1);
+                i_p_u1:  assert(pend_u_one_q == (f_pu == ONE_W));
+            end
+            if (f_after2) begin
+                i_p_d1:  assert(pend_d1_q == f_pvd - (f_pud << 1) + ONE_D);
+                i_p_d2:  assert(pend_d2_q == (f_pvd << 1) - f_pud + ONE_D);
+                i_p_p3:  assert(pend_d_add_a_q == ((f_pvd - f_pud) << 1) + FIVE_D);
+                i_p_g3:  assert(pend_f_add_a_q == ((f_pvd - f_pud) << 1) + TWO_D);
+                i_p_q4:  assert(pend_d2_add_b_cross_q == ZERO_D - f_pvd - (f_pvd << 1));
+            end
+        end
+
+    // ---- the run stage: increments, circle, frame ----
+    wire [DATA_W-1:0] f_ud = {2'b00, u_q};
+    wire [DATA_W-1:0] f_vd = {2'b00, v_q};
+    wire [F_PW-1:0]   f_uw = {{(F_PW-W){1'b0}}, u_q};
+    wire [F_PW-1:0]   f_vw = {{(F_PW-W){1'b0}}, v_q};
+    wire [F_PW-1:0]   f_fw = {{(F_PW-DATA_W){f_q[DATA_W-1]}}, f_q};   // F, sign-extended
+    // u^2 and v^2 (W x W -> 2W bits)
+    wire [2*W-1:0]    f_u_sq = u_q * u_q;
+    wire [2*W-1:0]    f_v_sq = v_q * v_q;
+    wire [W-1:0]      f_xmag = u_is_x ? u_q : v_q;
+    wire [W-1:0]      f_ymag = u_is_x ? v_q : u_q;
+    // the run stage's registers hold the arc's point while it runs and in the
+    // clock after its last move (unless the next arc was loaded at that edge)
+    reg f_last_d;
+    always @(posedge clk)
+        f_last_d <= !rst && last && !load;
+`ifndef F_PROTOCOL_ONLY
+    always @(*)
+        if (f_past_valid && !rst && (run_q || f_last_d)) begin
+            i_cw:       assert(cw_q == f_run_cw);
+            i_u_one:    assert(u_one_q == (u_q == ONE_W));
+            // the point in its quadrant's frame
+            i_px:       assert(point_x_q == (x_positive ? f_xmag : ~f_xmag + ONE_W));
+            i_py:       assert(point_y_q == (y_positive ? f_ymag : ~f_ymag + ONE_W));
+            // the increments (modulo 2^(W+2), as the datapath computes them);
+            // D1 = F - 2u + v + 1 and D2 = F - u + 2v + 1 in the equivalent
+            // form D2 - D1 = u + v, D2 - F = -u + 2v + 1 (the direct form's
+            // induction did not finish in 10 minutes, this one does)
+            a_d1:       assert(d2_q - d1_q == f_ud + f_vd);
+            a_d2:       assert(d2_q - f_q == (f_vd << 1) + ONE_D - f_ud);
+            a_p3:       assert(d_add_a_q == ((f_vd - f_ud) << 1) + FIVE_D);
+            a_q1:       assert(d2_add_b_q == TWO_D - (f_ud << 1));
+            a_q2:       assert(d2_add_c_q == (f_vd << 1) + THREE_D);
+            a_q4:       assert(d2_add_b_cross_q == ZERO_D - f_vd - (f_vd << 1));
+            a_g1:       assert(f_add_b_q == ONE_D - (f_ud << 1));
+            a_g3:       assert(f_add_a_q == ((f_vd - f_ud) << 1) + TWO_D);
+`ifndef F_RUN_CIRCLE
+            // without F_RUN_CIRCLE the range of u and v, which follows from
+            // the circle, is assumed (F_RUN_CIRCLE asserts it)
+            f_uv_range: assume(u_q != {W{1'b0}} && u_q <= F_MAG_MAX && v_q <= F_MAG_MAX);
+`else
+            // F's bound and the range of u and v
+            i_u_pos:    assert(u_q != {W{1'b0}});
+            i_u_max:    assert(u_q <= F_MAG_MAX);
+            i_v_max:    assert(v_q <= F_MAG_MAX);
+`ifdef F_SQUARER
+            // F on the circle's terms
+            i_run_r2:   assert(f_run_r2 != {F_PW{1'b0}} && f_run_r2 <= F_R2_MAX);
+            a_f_circle: assert(f_fw == {4'b0000, f_u_sq} + {4'b0000, f_v_sq} - f_run_r2);
+`endif
+            a_f_low:    assert($signed(f_fw) >= -$signed(f_uw + f_vw));
+            a_f_high:   assert($signed(f_fw) < $signed(f_uw + f_vw));
+`endif
+        end
+
+`endif
+
+    // ---- registered outputs: one step per axis per move, in its direction ----
+    wire [W-1:0]    f_dx = x - f_px_d;
+    wire [W-1:0]    f_dy = y - f_py_d;
+    wire [F_PW-1:0] f_ax = f_wide(x), f_ay = f_wide(y);
+    wire [F_PW-1:0] f_fo = {{(F_PW-DATA_W){f[DATA_W-1]}}, f};
+    wire [W-1:0]    f_ax_m = f_ax[W-1:0], f_ay_m = f_ay[W-1:0];
+    wire [2*W-1:0]  f_x_sq = f_ax_m * f_ax_m;
+    wire [2*W-1:0]  f_y_sq = f_ay_m * f_ay_m;
+    always @(posedge clk)
+        if (f_past_valid && !$past(rst) && !rst) begin
+            a_move:   assert(move == $past(advance));
+            a_done:   assert(done == $past(last));
+            a_reject: assert(reject == $past(rejecting));
+`ifdef F_SQUARER
+            if (reject) begin
+                a_err_code: assert(err_code == $past(f_slot_err));
+            end
+`endif
+            if (!move) begin
+                a_no_step: assert(!step_x && !step_y);
+            end
+            if (move && !$past(load)) begin
+                a_out_point: assert(x == point_x_q && y == point_y_q && f == f_q);
+            end
+            if (move) begin
+                // each axis: +1 in dir, -1 against it, or still (no step)
+                a_step_x: assert(step_x ? (f_dx == (dir_x ? ONE_W : {W{1'b1}}))
+                                        : (f_dx == {W{1'b0}}));
+                a_step_y: assert(step_y ? (f_dy == (dir_y ? ONE_W : {W{1'b1}}))
+                                        : (f_dy == {W{1'b0}}));
+                a_step_any: assert(step_x || step_y);
+`ifdef F_RUN_CIRCLE
+`ifdef F_SQUARER
+                a_out_circle: assert(f_fo == {4'b0000, f_x_sq} + {4'b0000, f_y_sq} - f_out_r2);
+`endif
+                a_out_low:    assert($signed(f_fo) >= -$signed(f_ax + f_ay));
+                a_out_high:   assert($signed(f_fo) < $signed(f_ax + f_ay));
+`endif
+            end
+            if (!step_x) begin
+                a_dir_x_held: assert(dir_x == $past(dir_x));
+            end
+            if (!step_y) begin
+                a_dir_y_held: assert(dir_y == $past(dir_y));
+            end
+        end
+
+    // ---- reachability (sby task cover) ----
+    always @(posedge clk)
+        if (f_past_valid && !rst) begin
+            c_done:         cover(done);
+            c_reject_1:     cover(reject && err_code == 2'd1);
+            c_reject_2:     cover(reject && err_code == 2'd2);
+            c_reject_3:     cover(reject && err_code == 2'd3);
+            c_quadrant:     cover(advance && crossing);
+            // a full circle (start = end) ends back on its start
+            c_full_circle:  cover(done && f_out_full && x == f_out_xs && y == f_out_ys);
+        end
+`endif
+
 endmodule
 
 `default_nettype wire

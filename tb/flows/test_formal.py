@@ -44,7 +44,7 @@ def test_quick_proofs_pass():
     assert rc == 0
     import json
     rows = json.loads((out / "report.json").read_text())
-    for design in ("halfpoint_stepgen", "halfpoint_line"):
+    for design in ("halfpoint_stepgen", "halfpoint_line", "halfpoint_arc"):
         mine = [r for r in rows if r["name"].startswith(f"{design}:")]
         assert mine and all(r["status"] == "PASS" and r["mode"] == "prove" for r in mine), \
             design
