@@ -41,6 +41,17 @@ def check_results(results, cmds):
         assert ArcBench.points(r) == arc_points(*r.cmd[1:], r.cmd[0], W), f"path of {r.cmd}"
 
 
+async def run_accepted(dut, bench, cmds, what: str, **idle):
+    """Run cmds (none of them to be rejected) and check each against the
+    model's lattice path; idle: the bench's valid_idle / en_idle rates."""
+    results, stats = await bench.run(cmds, **idle)
+    check_results(results, cmds)
+    assert not any(r.rejected for r in results), f"{what}: a command was rejected"
+    dut._log.info("%s: %d arcs, %d moves, %d cycles", what, len(cmds), stats.moves,
+                  stats.cycles)
+    return results, stats
+
+
 @cocotb.test()
 async def full_circles(dut):
     """Every full circle of radius 1..64, both directions, on and off an axis,
@@ -80,10 +91,7 @@ async def quadrant_pairs(dut):
                 for _ in range(2):
                     cmds.append(arc_for_quadrants(rng, W, qs, qe, cw, 1.5, 120))
     rng.shuffle(cmds)
-    results, stats = await bench.run(cmds, valid_idle=0.3, en_idle=0.25)
-    check_results(results, cmds)
-    assert not any(r.rejected for r in results)
-    dut._log.info("quadrant pairs: %d arcs, %d moves, %d cycles", len(cmds), stats.moves, stats.cycles)
+    await run_accepted(dut, bench, cmds, "quadrant pairs", valid_idle=0.3, en_idle=0.25)
 
 
 @cocotb.test()
@@ -380,11 +388,7 @@ async def large_radius_crossings(dut):
     bench = ArcBench(dut, W, seed=SEED + 71)
     await bench.start()
     cmds = large_radius_commands(rng, W)
-    results, stats = await bench.run(cmds, en_idle=0.1)
-    check_results(results, cmds)
-    assert not any(r.rejected for r in results)
-    dut._log.info("large radii: %d arcs, %d moves, %d cycles", len(cmds), stats.moves,
-                  stats.cycles)
+    await run_accepted(dut, bench, cmds, "large radii", en_idle=0.1)
 
 
 def diagonal_crossing_commands(rng: random.Random, width: int) -> list[tuple]:
@@ -437,11 +441,7 @@ async def diagonal_crossings(dut):
     bench = ArcBench(dut, W, seed=SEED + 83)
     await bench.start()
     cmds = diagonal_crossing_commands(rng, W)
-    results, stats = await bench.run(cmds, en_idle=0.1)
-    check_results(results, cmds)
-    assert not any(r.rejected for r in results)
-    dut._log.info("diagonal crossings: %d arcs, %d moves, %d cycles", len(cmds), stats.moves,
-                  stats.cycles)
+    await run_accepted(dut, bench, cmds, "diagonal crossings", en_idle=0.1)
 
 
 def near_end_commands(rng: random.Random, width: int, count: int) -> list[tuple]:
@@ -560,11 +560,7 @@ async def near_ends(dut):
     bench = ArcBench(dut, W, seed=SEED + 97)
     await bench.start()
     cmds = near_end_commands(rng, W, 150) + crossing_end_commands(rng, W)
-    results, stats = await bench.run(cmds, en_idle=0.1)
-    check_results(results, cmds)
-    assert not any(r.rejected for r in results)
-    dut._log.info("near ends: %d arcs, %d moves, %d cycles", len(cmds), stats.moves,
-                  stats.cycles)
+    await run_accepted(dut, bench, cmds, "near ends", en_idle=0.1)
 
 
 def square_boundary_commands(rng: random.Random, width: int) -> list[tuple]:
