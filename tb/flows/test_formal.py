@@ -91,3 +91,26 @@ def test_line_quick_task_is_the_induction_proof():
     opts = formal.task_options(formal.setup_formal_env(BUILD / "test_formal"),
                                formal.FORMAL / "halfpoint_line.sby", "prove_na2_w8")
     assert opts["mode"] == "prove"
+
+
+def test_a_yosys_warning_fails_the_proof(tmp_path):
+    """A design that Yosys reads with a warning (here an implicitly declared net in a
+    file without `default_nettype none`) is an ERROR, though its property holds."""
+    (tmp_path / "warned.v").write_text(
+        "module warned(input wire clk, input wire a, output wire b);\n"
+        "    assign implicit = a;\n"
+        "    assign b = implicit;\n"
+        "`ifdef FORMAL\n"
+        "    always @(*) assert (b == a);\n"
+        "`endif\n"
+        "endmodule\n")
+    sby = tmp_path / "warned.sby"
+    sby.write_text("[tasks]\nprove\n\n[options]\nmode prove\ndepth 2\n\n"
+                   f"[engines]\nsmtbmc {formal.SOLVER.removesuffix('-smt2')}\n\n"
+                   "[script]\nread -formal warned.v\nprep -top warned\n\n"
+                   "[files]\nwarned.v\n")
+    sbyexe = formal.setup_formal_env(BUILD / "test_formal")
+    res = formal.run_task(sbyexe, sby, "prove", tmp_path / "work" / "warned", "warned:prove")
+    assert (tmp_path / "work" / "warned_prove" / "PASS").exists(), res   # sby: it holds
+    assert res.status == "ERROR" and "implicitly declared" in res.note, res
+    assert not res.ok

@@ -29,6 +29,9 @@ follows the RTL as it is; the edit's text must occur exactly once.  Each of
 its tasks must FAIL with a trace: this shows that the proofs can fail, and the
 VCD shows how the broken design breaks the rules.
 
+A proof whose design Yosys read with a warning (sby's model/*.log) is an
+ERROR, not a PASS (mutants are exempt: their edits may warn).
+
 Exit status 0 when every proof passed and every mutant failed as expected.
 A summary is written to <out>/report.json.
 """
@@ -282,7 +285,26 @@ def run_task(sbyexe: Path, sby: Path, task: str, prefix: Path, name: str,
     if res.status == "ERROR" and not (workdir / "logfile.txt").exists():
         tail = (proc.stdout + proc.stderr).strip().splitlines()
         res.note = (tail[-1] if tail else "sby failed")[-200:]
+    warnings = yosys_warnings(workdir)
+    if warnings and expect == "PASS":
+        res.status = "ERROR"
+        res.note = f"Yosys warning ({len(warnings)} in all): {warnings[0]}"[:200]
     return res
+
+
+def yosys_warnings(workdir: Path) -> list[str]:
+    """The Yosys warnings of a task's design preparation (sby's model/*.log).
+
+    A proof passes only on a design that Yosys read without a warning: a warning
+    there can mean that the proof is about another circuit than the one written
+    (a width mismatch, a driver conflict, a property Yosys dropped)."""
+    found = []
+    for log in sorted((workdir / "model").glob("*.log")):
+        for line in log.read_text(errors="replace").splitlines():
+            line = line.strip()
+            if re.search(r"(^|: )Warning: ", line) and line not in found:
+                found.append(line)
+    return found
 
 
 def make_mutant(m: Mutant, root: Path) -> Path:
