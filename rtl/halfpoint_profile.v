@@ -718,6 +718,263 @@ module halfpoint_profile #(
     assign dry   = dry_q;
     assign busy  = cur_valid_q || !v_zero;
 
+`ifdef FORMAL
+    // ========================================================================
+    // Formal properties (SymbiYosys: formal/halfpoint_profile.sby, run by
+    // python -m halfpoint.flows.formal).  Verilator, Icarus and the cocotb
+    // builds do not define FORMAL, so they see the module above unchanged.
+    // ========================================================================
+    // Every input is free on every clock (rst high on the first), except
+    // (assumed):
+    //   * a next profile obeys the rules the core's validator enforces before
+    //     it reaches this stage (HALFPOINT_E_PROFILE_FIELD): accel != 0,
+    //     v_exit <= v_cruise, d_stop <= d_exit;
+    //   * the head move is of its segment's kind (the core's E_PROFILE): a line
+    //     iteration under a line's profile, axis and diagonal moves under an
+    //     arc's;
+    //   * a line's cost is at least one BLU (65536), as a line iteration moves
+    //     its major axis one BLU.  The core does NOT check this one, and a line
+    //     shorter per iteration than X's BLU is possible when Z's BLU is finer.
+    //     Without it the credit can grow on takes (a take gains v without the
+    //     cap check, and v may then exceed the cost): a chain of one-move
+    //     segments with a line cost below the speed could wrap the 42-bit
+    //     credit (found by this proof; see the README's verification section).
+    // Asserted (a_* the contract, i_* the invariants that let k-induction
+    // close):
+    //   pop      only for a present head move whose axes are ready, inside a
+    //            segment, never under abort_now, and only when the credit
+    //            covers the head's cost (credit >= cost x 2^22);
+    //   take     only of a present profile, on the segment's last pop or with
+    //            no segment (and no stop); never under abort_now;
+    //   speed    across any edge without rst or abort_now the speed changes by
+    //            at most accel (the value in force before the edge), except
+    //            that it falls to 0 when the segment ends with no next one;
+    //            two changes in the same direction are at least 2^DIV clocks
+    //            apart (the acceleration limit of the README's profile stage);
+    //   hold     from the second clock of a hold (or stop) on, the speed never
+    //            rises; while it is above 0 it falls at least once every
+    //            2^DIV + 1 clocks (so a hold reaches rest: at most
+    //            ceil(v / accel) (2^DIV + 1) clocks); at rest under hold it
+    //            stays at rest (from the hold's second clock: on its first the
+    //            target is the one registered before it);
+    //   stop     a stop at rest (stopped) ends the segment and clears the
+    //            credit on its edge;
+    //   abort    pop, take, stopped and holding are 0 during abort_now, and
+    //            the edge leaves the speed at 0 and no segment;
+    //   kept     v_zero_q is v == 0; tick_done_q is since_q at its top;
+    //            over_axis_q, over_diagonal_q (always) and over_line_q (with a
+    //            segment) are the credit less their costs x 2^22; gain_q is 0
+    //            or v_q; target_q is 0 after a clock of hold or stop; the
+    //            credit below F_CREDIT_B (it never wraps), cap_q its segment's.
+    // F_CONTRACT_ONLY leaves out the kept registers' invariants (i_*: what
+    // k-induction needs), so that a bounded check from reset reports which
+    // rule of the contract (a_*) a broken design breaks.
+    reg f_past_valid;
+    initial f_past_valid = 1'b0;
+    always @(posedge clk)
+        f_past_valid <= 1'b1;
+    always @(*)
+        if (!f_past_valid)
+            assume(rst);
+
+    // the next profile's rules (the core's validator), and a line iteration at
+    // least one BLU long (NOT checked by the core: see above)
+    always @(*)
+        if (next_valid) begin
+            assume(next_accel != 34'd0);
+            assume(next_v_exit <= next_v_cruise);
+            assume(next_d_stop <= next_d_exit);
+            assume(next_line_cost == 18'd0 || next_line_cost >= COST_AXIS);
+        end
+    // the head move is of the segment's kind (the core rejects an arc under a
+    // line's profile and a line under an arc's, E_PROFILE): a line iteration
+    // under a line cost, an axis or diagonal move under an arc's profile
+    always @(*)
+        if (head_valid && cur_valid_q)
+            assume((head_class == 2'd2) == (line_cost_q != 18'd0) && head_class != 2'd3);
+
+    localparam integer F_GW = DIV + 2;                      // clock counters
+    localparam [41:0] F_CREDIT_B = (42'd1 << 41) + (42'd1 << 39) + (42'd1 << 38);
+    localparam [F_GW-1:0] F_TICK = 1 << DIV;                // 2^DIV
+    localparam [F_GW-1:0] F_GAP_MAX = F_TICK + 1;           // saturation
+
+    // the edge before was an ordinary one (no rst, no abort_now)
+    reg  f_ordinary;
+    initial f_ordinary = 1'b0;
+    always @(posedge clk)
+        f_ordinary <= !rst && !abort_now;
+
+    // ------------------------------------------------------------------
+    // The kept registers against what they stand for
+    // ------------------------------------------------------------------
+`ifndef F_CONTRACT_ONLY
+    always @(*)
+        if (f_past_valid) begin
+            i_v_zero: assert(v_zero_q == (v_q == 38'd0));
+            i_tick: assert(tick_done_q == (since_q == {DIV{1'b1}}));
+            i_over_axis: assert(over_axis_q
+                                == {1'b0, credit_q} - {{(CW-40){1'b0}}, COST_AXIS, 22'd0});
+            i_over_diagonal: assert(over_diagonal_q
+                                    == {1'b0, credit_q} - {{(CW-40){1'b0}}, COST_DIAGONAL,
+                                                           22'd0});
+            if (cur_valid_q)
+                i_over_line: assert(over_line_q
+                                    == {1'b0, credit_q} - {{(CW-40){1'b0}}, line_cost_q,
+                                                           22'd0});
+            i_gain: assert(gain_q == 38'd0 || gain_q == v_q);
+            if (cur_valid_q)
+                i_line_cost: assert(line_cost_q == 18'd0 || line_cost_q >= COST_AXIS);
+            // the credit never wraps: below F_CREDIT_B, and below 2^41 + 2^39
+            // when it gains on the next edge or with no segment (a gain is
+            // < 2^38, a cost >= 2^38, cap < 2^41; the gain is 0 on the clock
+            // after the credit reached its cap, except after a take)
+            i_credit: assert(credit_q < F_CREDIT_B);
+            if (!cur_valid_q || gain_q != 38'd0)
+                i_credit_gaining: assert(credit_q < F_CREDIT_B - (42'd1 << 38));
+            i_cap: assert(!cur_valid_q || cap_q == {(line_cost_q != 18'd0) ? line_cost_q
+                                                                         : COST_DIAGONAL,
+                                                    23'd0});
+            if (!cur_valid_q)
+                i_no_segment_no_speed: assert(gain_q == 38'd0);
+        end
+    always @(posedge clk)
+        if (f_past_valid && $past(f_past_valid) && ($past(hold) || $past(stop)
+                                                     || !$past(cur_valid_q)))
+            i_target_held: assert(target_q == 38'd0);
+
+`endif
+
+    // ------------------------------------------------------------------
+    // Pop and take
+    // ------------------------------------------------------------------
+    always @(*)
+        if (f_past_valid) begin
+            if (pop) begin
+                a_pop_present: assert(head_valid && ready && cur_valid_q);
+                a_pop_paid: assert(credit_q >= {2'd0, cost, 22'd0});
+            end
+            if (take) begin
+                a_take_present: assert(next_valid);
+                a_take_when: assert((pop && head_last) || (!cur_valid_q && !stop));
+            end
+            if (abort_now)
+                a_abort_quiet: assert(!pop && !take && !stopped && !holding);
+        end
+
+    // ------------------------------------------------------------------
+    // Speed: at most accel per edge, same-direction changes 2^DIV apart
+    // ------------------------------------------------------------------
+    reg  [F_GW-1:0] f_gap_q;        // edges since the speed last changed, saturating
+    reg             f_last_up_q;    // that change was a rise
+    reg             f_last_down_q;  // that change was a fall
+    reg  [37:0]     f_v_before_q;   // v_q a clock ago
+    always @(posedge clk)
+        f_v_before_q <= v_q;
+    wire            f_rise = f_ordinary && (v_q > f_v_before_q);
+    wire            f_fall = f_ordinary && (v_q < f_v_before_q);
+    always @(posedge clk)
+        if (rst || abort_now) begin
+            f_gap_q       <= F_GAP_MAX;
+            f_last_up_q   <= 1'b0;
+            f_last_down_q <= 1'b0;
+        end else if (v_q != v_next) begin
+            f_gap_q       <= {F_GW{1'b0}};
+            f_last_up_q   <= (v_next > v_q);
+            f_last_down_q <= (v_next < v_q);
+        end else if (f_gap_q != F_GAP_MAX) begin
+            f_gap_q <= f_gap_q + 1'b1;
+        end
+    always @(posedge clk)
+        if (f_ordinary) begin
+            if ($past(cur_valid_n)) begin
+                a_rise_by_accel: assert({1'b0, v_q} <= {1'b0, $past(v_q)}
+                                                       + {5'd0, $past(accel_q)});
+                a_fall_by_accel: assert({1'b0, v_q} + {5'd0, $past(accel_q)}
+                                        >= {1'b0, $past(v_q)});
+            end else begin
+                a_no_segment_rest: assert(v_q == 38'd0 && !cur_valid_q);
+            end
+            // f_gap_q before the edge counts the edges after the last change
+            // but this one: a change on this edge is f_gap + 1 edges after it
+            if (f_rise && $past(f_last_up_q))
+                a_rise_cadence: assert($past(f_gap_q) + 1'b1 >= F_TICK);
+            if (f_fall && $past(f_last_down_q) && $past(cur_valid_n))
+                a_fall_cadence: assert($past(f_gap_q) + 1'b1 >= F_TICK);
+        end
+`ifndef F_CONTRACT_ONLY
+    // the step generator's own cadence registers against the monitor: after
+    // a rise the last step was up, no longer ago than the rise; after a fall
+    // likewise down, unless the fall was the drop to 0 at a segment's end
+    // (not a step), after which only a rise can follow
+    always @(*)
+        if (f_past_valid) begin
+            if (cur_valid_q)
+                i_accel: assert(accel_q != 34'd0);
+            if (f_last_up_q)
+                i_gap_up: assert(last_up_q && !last_down_q && f_gap_q >= {2'd0, since_q});
+            if (f_last_down_q && v_q != 38'd0)
+                i_gap_down: assert(last_down_q && !last_up_q
+                                   && f_gap_q >= {2'd0, since_q});
+            i_gap_one_way: assert(!(f_last_up_q && f_last_down_q));
+            i_gap_range: assert(f_gap_q <= F_GAP_MAX && f_wait_q <= F_GAP_MAX);
+            if (f_last_up_q)
+                i_risen: assert(v_q != 38'd0);
+            // two or more clocks of hold without a fall: the target is 0, so
+            // only the cadence of the last fall holds the next one back
+            if (f_wait_q >= 2)
+                i_hold_wait: assert(target_q == 38'd0 && v_q != 38'd0 && last_down_q
+                                    && f_wait_q <= {2'd0, since_q} + 1'b1);
+        end
+`endif
+
+    // ------------------------------------------------------------------
+    // Hold and stop: no rise from their second clock, a fall every 2^DIV + 1
+    // clocks while moving, at rest stays at rest
+    // ------------------------------------------------------------------
+    reg  [F_GW-1:0] f_wait_q;       // clocks of hold without a fall while moving
+    always @(posedge clk)
+        if (rst || abort_now || !hold || v_next < v_q || v_next == 38'd0)
+            f_wait_q <= {F_GW{1'b0}};
+        else if (f_wait_q != F_GAP_MAX)
+            f_wait_q <= f_wait_q + 1'b1;
+    always @(posedge clk)
+        if (f_ordinary && $past(f_past_valid) && $past(!rst && !abort_now, 2)) begin
+            if (($past(hold) && $past(hold, 2)) || ($past(stop) && $past(stop, 2)))
+                a_held_no_rise: assert(v_q <= $past(v_q));
+            if ($past(holding) && $past(hold, 2))
+                a_holding_stays: assert(v_q == 38'd0);
+        end
+    always @(*)
+        if (f_past_valid && hold)
+            a_hold_falls: assert(f_wait_q <= F_TICK);
+
+    // ------------------------------------------------------------------
+    // Stop at rest and abort
+    // ------------------------------------------------------------------
+    always @(posedge clk)
+        if (f_past_valid && $past(f_past_valid) && !$past(rst)) begin
+            if ($past(stopped))
+                a_stop_drops: assert(!cur_valid_q && credit_q == 42'd0 && v_q == 38'd0);
+            if ($past(abort_now))
+                a_abort_rest: assert(!cur_valid_q && v_q == 38'd0 && credit_q == 42'd0);
+        end
+
+    // ------------------------------------------------------------------
+    // Reachability (cover): a segment accelerates to a second step, a hold
+    // brings a moving segment to rest, holding with a move pending, a stop
+    // drops a segment, a take on the last pop
+    // ------------------------------------------------------------------
+    always @(posedge clk)
+        if (f_ordinary) begin
+            c_second_rise: cover(f_rise && $past(f_last_up_q));
+            c_holding: cover(holding && head_valid);
+            c_hold_to_rest: cover(hold && $past(hold) && cur_valid_q && v_q == 38'd0
+                                  && f_v_before_q != 38'd0);
+            c_stopped: cover($past(stopped) && $past(v_q) == 38'd0 && $past(cur_valid_q));
+            c_take_last: cover(take && pop);
+        end
+`endif
+
 endmodule
 
 `default_nettype wire

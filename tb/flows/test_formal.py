@@ -2,7 +2,8 @@
 """The formal flow (halfpoint.flows.formal): the quick proofs pass, with tools
 from the venv only, and a broken step generator (steplen off by one, made
 from the real RTL by a textual edit) fails the proof with a VCD trace, as
-does a line unit that takes a command while it holds one (one is lost).
+do a line unit that takes a command while it holds one (one is lost) and a
+profile stage whose speed rises by twice its acceleration.
 The full set (all tasks, every mutant) is `make formal`."""
 
 from __future__ import annotations
@@ -44,7 +45,7 @@ def test_quick_proofs_pass():
     assert rc == 0
     import json
     rows = json.loads((out / "report.json").read_text())
-    for design in ("halfpoint_stepgen", "halfpoint_line", "halfpoint_arc"):
+    for design in ("halfpoint_stepgen", "halfpoint_line", "halfpoint_arc", "halfpoint_profile"):
         mine = [r for r in rows if r["name"].startswith(f"{design}:")]
         assert mine and all(r["status"] == "PASS" and r["mode"] == "prove" for r in mine), \
             design
@@ -83,6 +84,15 @@ def test_line_lost_command_fails_with_trace(tmp_path):
     assert r.status == "FAIL", r
     assert r.traces and Path(r.traces[0]).exists()
     assert any(f.startswith("a_ready_idle") for f in r.failed), r.failed
+
+
+def test_profile_double_acceleration_fails_with_trace(tmp_path):
+    """A profile stage whose speed rises by twice accel breaks the acceleration limit."""
+    m = next(m for m in formal.MUTANTS if m.name == "profile_double_accel")
+    (r,) = formal.run_mutant(m, tmp_path / "mut")
+    assert r.status == "FAIL", r
+    assert r.traces and Path(r.traces[0]).exists()
+    assert "a_rise_by_accel" in " ".join(r.failed), r.failed
 
 
 def test_line_quick_task_is_the_induction_proof():
