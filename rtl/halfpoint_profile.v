@@ -44,7 +44,8 @@
 // ramp_left BLU x 2^38, distances BLU x 2^16):
 //   v_q, target_q 38   <= v_cruise x 2^6 < 2^38
 //   credit_q 42    < cap + 2 v < 2^41 + 2^39 (v is still added on the clock
-//                  after the credit reached the cap)
+//                  after the credit reached the cap; no gain at or above
+//                  2^41 whatever the segment, so also across takes)
 //   gain_q 38      the model's 0-if-full-else-v, registered with v_q
 //   s_q W+19       the popped costs of one segment, < 2^(W+19) (the caller's
 //                  bound on a segment, as for d_exit); E needs W+20 bits
@@ -572,9 +573,12 @@ module halfpoint_profile #(
     wire          cur_valid_n = pop_now ? (!head_last || next_valid) : (segment_runs || take_idle);
     wire          same_segment = pop_now ? !head_last : segment_runs;
     wire [37:0]   v_next = cur_valid_n ? v_n : 38'd0;
-    // the credit's gain is 0 after this edge without a segment or at the cap
-    wire          gain_zero = pop_now ? (head_last ? !next_valid : at_cap)
-                                      : (segment_runs ? at_cap : !take_idle);
+    // the credit's gain is 0 after this edge without a segment or at the cap,
+    // and whatever the segment at or above 2^41 (profile.CREDIT_CEILING, above
+    // every cap: a take would otherwise gain unchecked)
+    wire          gain_zero = (pop_now ? (head_last ? !next_valid : at_cap)
+                                       : (segment_runs ? at_cap : !take_idle))
+                              || credit_q[41];
     // v_next == 0 without the pop in front of a 38-bit compare: whether v_n is 0
     // comes from registers (v_plus is 0 only for v = accel = 0: it is taken only
     // when it does not pass the target, so it does not wrap), the pop ends with
@@ -724,21 +728,13 @@ module halfpoint_profile #(
     // python -m halfpoint.flows.formal).  Verilator, Icarus and the cocotb
     // builds do not define FORMAL, so they see the module above unchanged.
     // ========================================================================
-    // Every input is free on every clock (rst high on the first), except
-    // (assumed):
-    //   * a next profile obeys the rules the core's validator enforces before
-    //     it reaches this stage (HALFPOINT_E_PROFILE_FIELD): accel != 0,
-    //     v_exit <= v_cruise, d_stop <= d_exit;
-    //   * the head move is of its segment's kind (the core's E_PROFILE): a line
-    //     iteration under a line's profile, axis and diagonal moves under an
-    //     arc's;
-    //   * a line's cost is at least one BLU (65536), as a line iteration moves
-    //     its major axis one BLU.  The core does NOT check this one, and a line
-    //     shorter per iteration than X's BLU is possible when Z's BLU is finer.
-    //     Without it the credit can grow on takes (a take gains v without the
-    //     cap check, and v may then exceed the cost): a chain of one-move
-    //     segments with a line cost below the speed could wrap the 42-bit
-    //     credit (found by this proof; see the README's verification section).
+    // Every input is free on every clock (rst high on the first), except that
+    // a next profile obeys the rules the core's validator enforces before it
+    // reaches this stage (HALFPOINT_E_PROFILE_FIELD, assumed): accel != 0,
+    // v_exit <= v_cruise, d_stop <= d_exit.  Any head class under any profile,
+    // any line cost.  (This proof first closed only with a line cost of at
+    // least one BLU assumed; without it, it found the credit growing without
+    // bound across takes, now stopped at 2^41, profile.CREDIT_CEILING.)
     // Asserted (a_* the contract, i_* the invariants that let k-induction
     // close):
     //   pop      only for a present head move whose axes are ready, inside a
@@ -777,24 +773,16 @@ module halfpoint_profile #(
         if (!f_past_valid)
             assume(rst);
 
-    // the next profile's rules (the core's validator), and a line iteration at
-    // least one BLU long (NOT checked by the core: see above)
+    // the next profile's rules (the core's validator)
     always @(*)
         if (next_valid) begin
             assume(next_accel != 34'd0);
             assume(next_v_exit <= next_v_cruise);
             assume(next_d_stop <= next_d_exit);
-            assume(next_line_cost == 18'd0 || next_line_cost >= COST_AXIS);
         end
-    // the head move is of the segment's kind (the core rejects an arc under a
-    // line's profile and a line under an arc's, E_PROFILE): a line iteration
-    // under a line cost, an axis or diagonal move under an arc's profile
-    always @(*)
-        if (head_valid && cur_valid_q)
-            assume((head_class == 2'd2) == (line_cost_q != 18'd0) && head_class != 2'd3);
 
     localparam integer F_GW = DIV + 2;                      // clock counters
-    localparam [41:0] F_CREDIT_B = (42'd1 << 41) + (42'd1 << 39) + (42'd1 << 38);
+    localparam [41:0] F_CREDIT_B = (42'd1 << 41) + (42'd1 << 39);
     localparam [F_GW-1:0] F_TICK = 1 << DIV;                // 2^DIV
     localparam [F_GW-1:0] F_GAP_MAX = F_TICK + 1;           // saturation
 
@@ -822,14 +810,11 @@ module halfpoint_profile #(
                                     == {1'b0, credit_q} - {{(CW-40){1'b0}}, line_cost_q,
                                                            22'd0});
             i_gain: assert(gain_q == 38'd0 || gain_q == v_q);
-            if (cur_valid_q)
-                i_line_cost: assert(line_cost_q == 18'd0 || line_cost_q >= COST_AXIS);
-            // the credit never wraps: below F_CREDIT_B, and below 2^41 + 2^39
-            // when it gains on the next edge or with no segment (a gain is
-            // < 2^38, a cost >= 2^38, cap < 2^41; the gain is 0 on the clock
-            // after the credit reached its cap, except after a take)
+            // the credit never wraps: below 2^41 + 2^39, and below 2^41 + 2^38
+            // when it gains on the next edge (a gain is < 2^38 and follows a
+            // clock with the credit below 2^41)
             i_credit: assert(credit_q < F_CREDIT_B);
-            if (!cur_valid_q || gain_q != 38'd0)
+            if (gain_q != 38'd0)
                 i_credit_gaining: assert(credit_q < F_CREDIT_B - (42'd1 << 38));
             i_cap: assert(!cur_valid_q || cap_q == {(line_cost_q != 18'd0) ? line_cost_q
                                                                          : COST_DIAGONAL,

@@ -140,6 +140,20 @@ def raw_profile(rng, length: int, line_cost: int) -> ProfileParams:
     return p
 
 
+def ceiling_program(rng) -> Program:
+    """One-move segments whose line cost is far below the speed: every take carries
+    the credit (a take gains the speed without the segment's cap check), and it climbs
+    to the ceiling, 2^41, where it gains nothing.  Before the ceiling it grew without
+    bound and the 42-bit register wrapped.  Reaching the ceiling takes about
+    sqrt(2^(DIV + 8)) one-move segments (the speed ramps from 0)."""
+    dist_top = (1 << pf.distance_bits(W)) - 1
+    count = 48 << max(0, (DIV - 1) // 2)
+    profiles = [ProfileParams(TOP_SPEED, TOP_SPEED, TOP_ACCEL, rng.randint(1, 1 << 12),
+                              dist_top, dist_top) for _ in range(count - 1)]
+    profiles.append(ProfileParams(TOP_SPEED, 0, TOP_ACCEL, 1, 0, 0))
+    return Program("raw", profiles, [[CLASS_LINE]] * count, [0] * count)
+
+
 def raw_program(rng) -> Program:
     """Profiles straight from ProfileParams, not from the planner: d_exit 0 or past
     the end, v_exit = v_cruise, accel 1 and 2^34 - 1, line costs up to 2^18 - 1.
@@ -446,7 +460,8 @@ class Checker:
         self.clocks = 0
         self.seen = {"pop": 0, "take": 0, "stopped": 0, "holding": 0, "ramp_step": 0,
                      "dry_start": 0, "left_negative": 0, "capped": 0,
-                     "exact_cover": 0, "capped_pop_step": 0, "left_floor": 0}
+                     "exact_cover": 0, "capped_pop_step": 0, "left_floor": 0,
+                     "ceiling": 0}
         self.v_before = 0
 
     @staticmethod
@@ -477,6 +492,7 @@ class Checker:
     def credit(self, model: ProfileStage, inp: ProfileInputs) -> None:
         """Before the clock: does the credit cover the head move exactly?"""
         self.v_before = model.v
+        self.seen["ceiling"] += int(model.credit >= pf.CREDIT_CEILING)
         if model.cur is not None and inp.head_valid:
             cost = pf.move_cost(inp.head_class, model.cur)
             self.seen["exact_cover"] += int(model.credit >> pf.COST_SHIFT == cost)
@@ -597,10 +613,15 @@ async def raw_profiles(dut):
         if k == 10:
             await bench.reset()
         k += 1
+    if DIV <= 5:
+        # last, so that the programs above are the same draws as before it
+        program = ceiling_program(bench.rng)
+        await bench.run_program(program, random_events(bench.rng, program, calm=True))
     bench.report("raw profiles")
     seen = bench.checker.seen
     assert all(seen[k] for k in ("pop", "take", "ramp_step", "left_negative",
                                  "capped", "exact_cover", "capped_pop_step"))
+    assert seen["ceiling"] or DIV > 5
     # the remainder's floor, 2^(DIV + 40), is 2^(DIV + 2) clocks of full speed
     # beyond a level: these programs reach it at DIV 3
     assert seen["left_floor"] or DIV > 3

@@ -391,6 +391,27 @@ def test_stopped_stage_drops_credit_and_takes_the_next_program():
 
 # --- units -----------------------------------------------------------------------------------
 
+def test_credit_stops_at_its_ceiling_across_takes():
+    """One-move segments whose line cost is far below the speed: a take gains the
+    speed without the segment's cap check, so without the ceiling (2^41, no gain at
+    or above it) the credit grew by about v - cost per segment, past the 42 bits of
+    the register (found by the profile stage's proof: 22 x 2^42 after 400 clocks)."""
+    div = 2
+    stage = ProfileStage(div)
+    chain = ProfileParams((1 << 32) - 1, (1 << 32) - 1, (1 << 34) - 1, 1, 1 << 40, 1 << 40)
+    top = seen_full = 0
+    for _ in range(400):
+        inp = ProfileInputs(head_valid=int(stage.cur is not None), next_valid=1,
+                            next_profile=chain, hold=0, stop=0, override=OVERRIDE_ONE, ready=1)
+        if stage.cur is not None:
+            inp.head_class, inp.head_last = CLASS_LINE, 1
+        w = stage.clock(inp)
+        top = max(top, stage.credit)
+        seen_full += int(w.take and stage.full)
+    assert pf.CREDIT_CEILING <= top < pf.CREDIT_CEILING + (1 << 39), top
+    assert seen_full            # takes at the ceiling gain nothing on the next clock
+
+
 def test_choose_div():
     assert pf.choose_div(50_000_000) == 12
     assert pf.choose_div(10_000_000) == 10

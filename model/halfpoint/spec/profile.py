@@ -50,7 +50,8 @@ ov_prod, ov_target 38   2^-38 BLU/clock     (v_cruise << 6) * ov_q >> 7 <= v_cru
                                             two clocks of pipeline
 credit            42    2^-38 BLU           < cap + 2 v (v is added on the clock after
                                             it reached the cap, cap = 2 * largest
-                                            cost <= 2^41 - 2^23)
+                                            cost <= 2^41 - 2^23), and < 2^41 + 2^39
+                                            whatever the segments (CREDIT_CEILING)
 distance s      W+19    2^-16 BLU           as d_exit (sum of the popped costs)
 tick counter     DIV    clocks              1 .. 2^DIV, saturating
 ===============  =====  ==================  =========================================
@@ -74,7 +75,12 @@ of this clock and used on the next one:
 * credit += v while a segment is current, unless the credit was at or above its
   cap (twice the segment's largest cost: arcs the diagonal cost, lines the line
   cost) on the clock before (``full``, registered), so credit cannot pile up
-  while nothing can move; a move pops when the head is valid, credit >= its cost,
+  while nothing can move.  A segment's end clears ``full`` (it belongs to its
+  segment), but a credit at or above CREDIT_CEILING = 2^41 (above every cap) sets
+  it whatever the segment: a take would otherwise gain v unchecked, and a chain of
+  one-move segments whose line cost is below the speed (a Z line when Z's BLU is
+  finer than X's) grew the credit without bound (found by the profile stage's
+  formal proof; the 42-bit register wrapped).  So credit < 2^41 + 2^39.  A move pops when the head is valid, credit >= its cost,
   ``ready``, and not ``stop`` at rest; credit -= cost, s += cost; on the segment's
   last move the next profile becomes current (if available), s restarts at 0 and
   the credit's remainder is carried.  The pop is the one decision taken in the
@@ -190,6 +196,7 @@ ACCEL_BITS = 34                     # speed step < 2^-4 BLU per clock
 LINE_COST_BITS = 18                 # line cost < 4 BLU
 DIST_EXTRA_BITS = 3                 # a segment is < 2^(W + 3) BLU long
 OVERRIDE_ONE = 128                  # the override in 1/128 (128 = 100 %)
+CREDIT_CEILING = 1 << 41            # credit units: above every cap; no gain at or above it
 
 COST_AXIS = 1 << COST_FRAC                          # 65536
 COST_DIAG = round(math.sqrt(2) * (1 << COST_FRAC))  # 92682
@@ -474,6 +481,7 @@ class ProfileStage:
         # registered compares of this clock's registers, for the next clock
         cur = self.cur
         full = past_exit = past_stop = False
+        ceiling = self.credit >= CREDIT_CEILING
         if cur is not None:
             full = self.credit >= (cur.largest_cost() << COST_SHIFT) << 1
             earned = self.s + (self.credit >> COST_SHIFT)
@@ -488,9 +496,10 @@ class ProfileStage:
                 self.s += w.cost
                 if i.head_last:
                     self.s, self.cur, segment_ends = 0, None, True
-        # the compares belong to the segment they were made in
+        # the compares belong to the segment they were made in; the ceiling to none
         if segment_ends or w.stopped:
             full = past_exit = past_stop = False
+        full = full or (ceiling and not w.stopped)
         self.full, self.past_exit, self.past_stop = full, past_exit, past_stop
         # the exit staircase; it ends with its segment
         self.ramp_on, self.ramp_dry, self.ramp_v = w.ramp_on, w.ramp_dry, w.ramp_v
