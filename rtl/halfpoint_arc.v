@@ -5,7 +5,7 @@
 // ============================================================================
 // Interpolates one circular arc per command on the integer lattice (1 BLU per
 // axis step), one lattice move per clock while `en` is high, through every
-// quadrant crossing and from one command to the next without an idle clock.
+// quadrant crossing, with one clock without a move from one arc to the next.
 //
 // Command (valid/ready, taken when s_valid & s_ready):
 //   s_cw            1 = clockwise (G2), 0 = counter-clockwise (G3)
@@ -16,8 +16,8 @@
 //
 // Each command goes through a validator (W+5 clocks, shift-and-add squaring,
 // no multiplier) and waits in a pending slot; while start_en is high it
-// enters the run stage at the clock edge of the previous arc's last move, or
-// at once when the run stage is idle.  The sequencing outputs (running,
+// enters the run stage when that is idle (the edge after the previous arc's
+// last move, not that edge: the end test feeds no load).  The outputs (running,
 // loading, ending, nx_*) are combinational views of the run stage for a
 // motion core that paces `en` and orders segments across units.  The
 // validator rejects (reject pulse, err_code, no move):
@@ -566,7 +566,7 @@ module halfpoint_arc #(
     wire stop   = move_b ? stop_b : move_a ? stop_a : stop_c;
     wire last = advance && stop;
 
-    assign load = hold_q && start_en && !abort_now && (!run_q || last);
+    assign load = hold_q && start_en && !abort_now && !run_q;     // only into an idle stage
 
     assign running = run_q;
     assign pending = hold_q;
@@ -860,6 +860,9 @@ module halfpoint_arc #(
             end
             if (load) begin
                 a_load_valid: assert(f_slot_valid && validator_state_q == STATE_HOLD);
+                // a pending arc enters only an idle run stage (never at the
+                // edge of the running arc's last move)
+                a_load_idle:  assert(!run_q && !f_run_valid && !last);
 `ifdef F_SQUARER
                 a_load_ok: assert(f_slot_err == 2'd0);
 `endif
@@ -980,10 +983,10 @@ module halfpoint_arc #(
     wire [W-1:0]      f_xmag = u_is_x ? u_q : v_q;
     wire [W-1:0]      f_ymag = u_is_x ? v_q : u_q;
     // the run stage's registers hold the arc's point while it runs and in the
-    // clock after its last move (unless the next arc was loaded at that edge)
+    // clock after its last move (the next arc is never loaded at that edge)
     reg f_last_d;
     always @(posedge clk)
-        f_last_d <= !rst && last && !load;
+        f_last_d <= !rst && last;
 `ifndef F_PROTOCOL_ONLY
     always @(*)
         if (f_past_valid && !rst && (run_q || f_last_d)) begin

@@ -172,3 +172,35 @@ def test_lean_stop_predictor_equals_the_model():
             continue
         pts = arc_points(xs, ys, xe, ye, cw)
         assert arc_stop(xs, ys, xe, ye, cw) == (*pts[-1], len(pts) - 1)
+
+
+def test_cycle_model_arc_to_arc_boundary():
+    """A pending arc enters only an idle run stage: with the second arc ready
+    long before the first ends, the cycle that shows the first arc's last move
+    (done) is followed by one cycle without a move that shows the second arc's
+    start (the load), and its first move strobes in the cycle after."""
+    w = 16
+    m = ArcUnitModel(w)
+    m.clock(ArcInputs(rst=1))
+    a = (0, 40, 0, 0, 40)       # a quarter circle, much longer than W + 5 moves
+    b = (0, 0, 40, -40, 0)
+    queue = [a, b]
+    seen = []
+    for _ in range(400):
+        o = m.outputs()
+        seen.append(o)
+        if queue and o.s_ready:
+            cw, xs, ys, xe, ye = queue.pop(0)
+            m.clock(ArcInputs(s_valid=1, s_cw=cw, s_xs=xs, s_ys=ys, s_xe=xe, s_ye=ye))
+        else:
+            m.clock(ArcInputs())
+    done = [k for k, o in enumerate(seen) if o.done]
+    assert len(done) == 2
+    k = done[0]
+    assert (seen[k].x, seen[k].y) == (0, 40)
+    gap = seen[k + 1]
+    assert not gap.move and gap.busy and (gap.x, gap.y, gap.f) == (0, 40, 0)
+    assert seen[k + 2].move and (seen[k + 2].x, seen[k + 2].y) != (0, 40)
+    moves = [k for k, o in enumerate(seen) if o.move]
+    # every clock from the first move to the last but the boundary's one
+    assert moves[-1] - moves[0] + 1 == len(moves) + 1

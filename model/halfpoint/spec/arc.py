@@ -9,7 +9,8 @@ Two layers:
   runs one arc to its stop point.
 * ``ArcUnitModel``: the cycle-accurate twin of the RTL module at its ports:
   command handshake, the multi-cycle validator, the pending slot, the run
-  stage, and every registered output, clock by clock.
+  stage, and every registered output, clock by clock.  A pending arc enters
+  only an idle run stage: one clock without a move at an arc->arc boundary.
 
 Coordinates are signed integers in BLU relative to the arc centre.  The
 direction bit is ``cw`` (1 = clockwise, G2; 0 = counter-clockwise, G3).
@@ -435,6 +436,18 @@ class ArcUnitModel:
 
     Call :meth:`outputs` to read what the RTL shows during the current clock
     cycle, then :meth:`clock` with that cycle's inputs to apply the rising edge.
+
+    Cycle behaviour: a command taken at the edge ending cycle t is validated
+    in ``validate_latency(W)`` = W + 5 clocks and then waits in the pending
+    slot (state ``V_HOLD``).  It enters the run stage at an edge where
+    ``start_en`` is high and the run stage is idle during that clock (no arc
+    in it); its start point then shows on x/y (F = 0) for a cycle, and its
+    first move is made at the next enabled edge.  The unit never loads at the
+    edge of the running arc's last move: that edge empties the run stage and
+    the pending arc enters at the next one, so two arcs queued back to back
+    run with exactly one clock without a move between them (the motion core's
+    move queue hides it from the pins).  ``s_ready`` rises in the cycle after
+    the load.
     """
 
     def __init__(self, width: int = 32):
@@ -471,8 +484,13 @@ class ArcUnitModel:
             self.vstate = V_IDLE
             return
 
+        # The pending arc enters only a run stage that is idle during this
+        # clock: not at the edge of the running arc's last move, but at the
+        # next one (an arc->arc boundary costs one clock; the end test then
+        # feeds neither the load nor the run stage's clock enables).
+        idle = self.run is None
+
         # Run stage: one move when enabled.
-        finishing = False
         if self.run is not None and i.en:
             mv = self.run.move()
             o.move = 1
@@ -485,7 +503,6 @@ class ArcUnitModel:
             if mv.last:
                 o.done = 1
                 self.run = None
-                finishing = True
 
         # Validator and pending slot.
         st = self.vstate
@@ -512,9 +529,8 @@ class ArcUnitModel:
         elif st == V_INIT:
             self.vstate = V_HOLD
         elif st == V_HOLD:
-            if self.run is None and i.start_en:
+            if idle and i.start_en:
                 cw, xs, ys, xe, ye = self.vcmd
                 self.run = ArcRun(xs, ys, xe, ye, cw, self.width)
-                if not finishing:
-                    o.x, o.y, o.f = xs, ys, 0
+                o.x, o.y, o.f = xs, ys, 0
                 self.vstate = V_IDLE

@@ -23,8 +23,10 @@ quiet when, on every one of its clocks:
 * no beat enters the command queue (it is full, or the program is all in) and the
   dispatcher neither pops, rejects nor hands a command to a unit;
 * the units neither validate (each in its idle state or holding a validated command
-  that cannot start: the other unit is running) nor produce a move (none is running,
-  or the move queue is full), and no profile enters the profile queue;
+  that cannot start: a unit is running, the other or, for an arc behind an arc, the
+  arc unit itself, which loads only into an idle run stage, the clock after its last
+  move: that clock, with no unit running, is never quiet) nor produce a move (none is
+  running, or the move queue is full), and no profile enters the profile queue;
 * the profile stage pops no move (its credit does not cover the head move's cost, or
   the STEP/DIR generators the head move needs are not ready yet), takes no profile,
   makes no speed step (the speed equals its registered target, or the cadence counter

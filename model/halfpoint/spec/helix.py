@@ -28,8 +28,9 @@ nothing runs away.  N = 0 means no count given: a flat arc, not checked.
 
 ``HelixMapper`` is the clock-by-clock twin of the RTL module: a pending slot
 loaded when the dispatcher hands the arc to the arc unit, the running state loaded
-when the arc unit starts that arc (the same edge as the previous arc's last move,
-which the running state makes first).
+when the arc unit starts that arc (the arc unit loads only into an idle run stage:
+behind an arc, the edge after its last move; the mapper itself makes a move at a
+loading edge first, should both come together).
 """
 
 from __future__ import annotations
