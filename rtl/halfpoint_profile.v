@@ -731,7 +731,8 @@ module halfpoint_profile #(
     // Every input is free on every clock (rst high on the first), except that
     // a next profile obeys the rules the core's validator enforces before it
     // reaches this stage (HALFPOINT_E_PROFILE_FIELD, assumed): accel != 0,
-    // v_exit <= v_cruise, d_stop <= d_exit.  Any head class under any profile,
+    // v_exit <= v_cruise, d_stop <= d_exit.  Any head class under any profile
+    // (F_HEAD_OF_ITS_KIND, for the bounded check, assumes the core's rule),
     // any line cost.  (This proof first closed only with a line cost of at
     // least one BLU assumed; without it, it found the credit growing without
     // bound across takes, now stopped at 2^41, profile.CREDIT_CEILING.)
@@ -780,6 +781,24 @@ module halfpoint_profile #(
             assume(next_v_exit <= next_v_cruise);
             assume(next_d_stop <= next_d_exit);
         end
+
+`ifdef F_HEAD_OF_ITS_KIND
+    // the head move is of its segment's kind (the core's E_PROFILE: a line
+    // iteration under a line's profile, axis and diagonal moves under an
+    // arc's): assumed by the bounded contract check only, which is much
+    // faster with it; the induction proofs do not need it
+    always @(*)
+        if (head_valid && cur_valid_q)
+            assume((head_class == 2'd2) == (line_cost_q != 18'd0) && head_class != 2'd3);
+`endif
+`ifdef F_LINE_COST_BLU
+    // line costs of at least one BLU (not a rule of the core: a Z line is
+    // cheaper when Z's BLU is finer than X's): for the bounded check only,
+    // whose step 9 ran past 10 minutes without it
+    always @(*)
+        if (next_valid)
+            assume(next_line_cost == 18'd0 || next_line_cost >= COST_AXIS);
+`endif
 
     localparam integer F_GW = DIV + 2;                      // clock counters
     localparam [41:0] F_CREDIT_B = (42'd1 << 41) + (42'd1 << 39);
