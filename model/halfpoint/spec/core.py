@@ -34,20 +34,20 @@ Data path, clock by clock (issue 13: the interpolators decoupled from the pacing
   class (axis move, diagonal arc move, line iteration) and whether it is its
   segment's last.
 * Profile stage (``spec.profile.ProfileStage``, the one definition of the pacing):
-  pops the head move when its credit covers the move's cost and every axis the
-  move steps is ready for its direction (the STEP/DIR generators); takes the next
-  profile when the current segment's last move pops (or when none is current).
-  ``hold`` decelerates to rest and waits; ``stop`` decelerates to rest and then
-  drops everything not yet moved, like abort_now, one clock later: an edge at rest
-  with stop high (the stage's ``stopped``: the stage drops its own segment and
-  credit, pops and takes nothing; the rest of the core clocks as on any edge, but
-  an OUTPUT does not load while stop is high) sets the flush register, and the
-  next edge is the flush (``_flush``; the stage sees stop held high at it, so it
-  takes nothing from the queues being dropped).  A stop held high at rest
-  therefore flushes at every edge from the second one on.  The flush is a
-  register so that no path runs from the stage's speed register through the
-  dispatcher to the queue's clock enables.  ``feed_override`` (1/128, 0..128)
-  scales the cruise speed, its changes ramping at the segment's acceleration.
+  pops the head move when its credit covers the move's cost and every axis the move
+  steps is ready for its direction (the STEP/DIR generators); takes the next profile
+  when the current segment's last move pops (or when none is current).  ``hold``
+  decelerates to rest and waits; ``stop`` decelerates to rest and then drops
+  everything not yet moved, like abort_now, one clock later: an edge at rest with
+  stop high (the stage's ``stopped``: the stage drops its own segment and credit,
+  pops and takes nothing; the rest of the core clocks as on any edge, a reject there
+  reported, but an OUTPUT does not load while stop is high) sets the flush register,
+  and the next edge is the flush (``_flush``; the stage sees stop held high at it,
+  so it takes nothing from the queues being dropped).  A stop held high at rest
+  therefore flushes at every edge from the second one on.  The flush is a register so
+  that no path runs from the stage's speed register through the dispatcher to the
+  queue's clock enables.  ``feed_override`` (1/128, 0..128) scales the cruise speed,
+  its changes ramping at the segment's acceleration.
 * Helix (``spec.helix``): the arc unit's moves are in its plane (u, v); the mapper
   puts them on the command's two axes and steps the helix slots' axes against the
   arc's move count N; an arc whose move count is not N reports E_HELIX_COUNT at its
