@@ -38,16 +38,20 @@
 // off.
 //
 // hold (level) decelerates along the path to rest and waits; releasing it
-// accelerates back to the plan.  stop (level) decelerates to rest, then every
-// edge at rest while it is high drops the queue, the command in flight, both
-// units' segments, the move and profile queues and the profile in force (a
-// controlled stop; tready is low meanwhile).  feed_override (1/128, above 128
-// acts as 128) scales the cruise speed, its changes ramping at the segment's
-// acceleration.  abort_now (level): at each edge while it is high no move is
-// made and everything not yet moved is dropped at once; tready is low.  A STEP
-// pulse already started completes with its full timing; positions keep every
-// step made.  abort_now and stop pass through a register first: each acts from
-// the edge after the one that saw it high (one clock of latency).
+// accelerates back to the plan.  stop (level) decelerates to rest; an edge at
+// rest with stop high sets the flush register (the profile stage drops its
+// segment, nothing pops; an OUTPUT does not load while stop is high), and the
+// next edge drops the queue, the command in flight, both units' segments, the
+// move and profile queues and the profile in force (a controlled stop; tready
+// is low meanwhile).  The flush is a register, so that no path runs from the
+// profile stage's speed register through the dispatcher to the queue.
+// feed_override (1/128, above 128 acts as 128) scales the cruise speed, its
+// changes ramping at the segment's acceleration.  abort_now (level): at each
+// edge while it is high no move is made and everything not yet moved is
+// dropped at once; tready is low.  A STEP pulse already started completes
+// with its full timing; positions keep every step made.  abort_now and stop
+// pass through a register first: each acts from the edge after the one that
+// saw it high (one clock of latency).
 //
 // Rejected commands (bad opcode or reserved bits, field out of range, no
 // profile or a bad one, arc validator rejects) make no motion, set err_code
@@ -382,23 +386,28 @@ module halfpoint_core #(
     reg  [INDEX_W:0]   count_q;
     wire               pop;
     wire               push = s_axis_tvalid && s_axis_tready;
-    wire               flush;      // abort, or stop at rest (the profile stage)
+    wire               flush;      // abort, or the stop flush register
     localparam [INDEX_W:0]   QUEUE_FULL = {1'b1, {INDEX_W{1'b0}}};     // DEPTH
     localparam [INDEX_W-1:0] INDEX_ONE = {{(INDEX_W-1){1'b0}}, 1'b1};
     localparam [INDEX_W:0]   COUNT_ONE = {{INDEX_W{1'b0}}, 1'b1};
-    wire               stage_stopped;  // stop at rest (the profile stage)
+    wire               stage_stopped;  // stop (or the flush) at rest (the profile stage)
 
     // abort_now and stop are registered before they act: the core acts on them from
     // the edge after they rise (they reach the reset of every stage, and a
-    // path from an input to it would set the core's clock)
-    reg                abort_q, stop_q;
+    // path from an input to it would set the core's clock).  flush_q: an edge
+    // at rest with stop high sets it, and the next edge is the flush (the
+    // stage's stop is held high at it, so it takes nothing from the queues
+    // being dropped; it is at rest with no segment since the edge before)
+    reg                abort_q, stop_q, flush_q;
     always @(posedge clk) begin
         if (rst) begin
             abort_q <= 1'b0;
             stop_q <= 1'b0;
+            flush_q <= 1'b0;
         end else begin
             abort_q <= abort_now;
             stop_q <= stop;
+            flush_q <= stage_stopped && stop_q;
         end
     end
 
@@ -485,9 +494,12 @@ module halfpoint_core #(
     wire        arc_take  = arc_s_valid && arc_s_ready;
     wire        line_take = line_s_valid && line_s_ready;
     wire        dispatch_error = head_ok && (head_bad || no_profile);
-    // an OUTPUT runs once everything before it has moved
+    // an OUTPUT runs once everything before it has moved, not while stop is
+    // high (an idle machine is at rest: that edge is a stop at rest, and the
+    // next one drops the OUTPUT)
     wire        downstream_idle;
-    wire        output_load = head_ok && head_output && !head_bad && downstream_idle;
+    wire        output_load = head_ok && head_output && !head_bad && downstream_idle &&
+                              !stop_q;
     assign pop = dispatch_error || (head_ok && (head_nop || profile_load)) || arc_take ||
                  line_take || output_load;
 
@@ -847,7 +859,7 @@ module halfpoint_core #(
         .next_d_exit    (next_profile[116 +: DW]),
         .next_d_stop    (next_profile[116 + DW +: DW]),
         .hold           (hold),
-        .stop           (stop_q),
+        .stop           (stop_q || flush_q),
         .feed_override  (feed_override),
         .pop            (stage_pop),
         .take           (stage_take),
@@ -858,7 +870,7 @@ module halfpoint_core #(
         .busy           (stage_busy)
     );
 
-    assign flush = abort_q || stage_stopped;
+    assign flush = abort_q || flush_q;
     assign downstream_idle = !arc_busy && !line_busy && !move_valid && !pq_valid && !stage_busy;
 
     // ------------------------------------------------------------------

@@ -94,6 +94,7 @@ module halfpoint_stepgen #(
     reg  [1:0]    state_q;
     reg  [TW-1:0] count_q;        // clocks left in SETUP / HIGH
     reg  [TW-1:0] low_time_q;     // clocks STEP has been inactive (saturating)
+    reg  [TW:0]   low_time_plus_q;    // low_time_q + 1, one bit wider (for the compares)
     reg           dir_q;      // logical direction, 1 = positive
 
     wire [TW-1:0] step_length = (cfg_steplen == {TW{1'b0}}) ? ONE_T : cfg_steplen;
@@ -158,14 +159,13 @@ module halfpoint_stepgen #(
     // low_time_n >= stepspace and >= dirhold (registered below), each compare
     // from registers and settings, with the state selecting last: in LOW
     // low_time_n is low_time_q + 1 (saturating), so it reaches a setting iff
-    // low_time_q reaches the setting less one (0 stays 0); at the HIGH
+    // low_time_q + 1 does (low_time_plus_q, a register: the settings meet one
+    // carry chain, no arithmetic of their own in front of it); at the HIGH
     // state's end it is 1; otherwise it is low_time_q
-    wire [TW-1:0] space_less_one = cfg_stepspace - {{(TW-1){1'b0}}, (cfg_stepspace != 0)};
-    wire [TW-1:0] hold_less_one  = cfg_dirhold - {{(TW-1){1'b0}}, (cfg_dirhold != 0)};
-    wire          space_counting = (low_time_q >= space_less_one);
-    wire          hold_counting  = (low_time_q >= hold_less_one);
-    wire          space_at_one   = (cfg_stepspace <= ONE_T);
-    wire          hold_at_one    = (cfg_dirhold <= ONE_T);
+    wire          space_counting = (low_time_plus_q >= {1'b0, cfg_stepspace});
+    wire          hold_counting  = (low_time_plus_q >= {1'b0, cfg_dirhold});
+    wire          space_at_one   = (cfg_stepspace[TW-1:1] == {(TW-1){1'b0}});
+    wire          hold_at_one    = (cfg_dirhold[TW-1:1] == {(TW-1){1'b0}});
     wire          space_kept     = (low_time_q >= cfg_stepspace);
     wire          hold_kept      = (low_time_q >= cfg_dirhold);
     wire          high_ends = !in_low && state_q != STATE_SETUP && count_q <= ONE_T;
@@ -184,6 +184,7 @@ module halfpoint_stepgen #(
             state_q    <= STATE_LOW;
             count_q    <= {TW{1'b0}};
             low_time_q <= MAX_T;
+            low_time_plus_q <= {1'b1, {TW{1'b0}}};
             dir_q      <= 1'b0;
             space_ok_q <= 1'b1;       // low_time = max
             hold_ok_q  <= 1'b1;
@@ -193,6 +194,7 @@ module halfpoint_stepgen #(
             state_q    <= state_n;
             count_q    <= count_n;
             low_time_q <= low_time_n;
+            low_time_plus_q <= {1'b0, low_time_n} + {{TW{1'b0}}, 1'b1};
             dir_q      <= dir_n;
             space_ok_q <= space_ok_n;
             hold_ok_q  <= hold_ok_n;
@@ -437,6 +439,7 @@ module halfpoint_stepgen #(
             i_lo: assert(f_step_d == (f_lo == F_ZERO));
             i_sd: assert(f_sd != F_ZERO);
             i_space: assert(space_ok_q == (low_time_q >= f_stepspace_q));
+            i_low_time_plus: assert(low_time_plus_q == {1'b0, low_time_q} + {{TW{1'b0}}, 1'b1});
             i_hold: assert(hold_ok_q == (low_time_q >= f_dirhold_q));
             i_owed: assert(f_owed == (state_q == STATE_SETUP || f_rise));
             if (f_owed)

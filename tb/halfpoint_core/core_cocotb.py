@@ -293,6 +293,53 @@ async def stop_then_new_program(dut):
     assert bench.trace == expected_from(second, stopped)
 
 
+class StopUntilRest:
+    """A stop schedule (``CoreBench.stop_schedule``) high from cycle ``start`` until
+    the first cycle in which the core is at rest with its registered stop high: stop
+    falls in that very cycle, so the edge ending it is the last stop at rest and the
+    flush at the next edge sees the registered stop low.  ``profiles``: the model's
+    profile queue then (segments the flush must drop, not take)."""
+
+    def __init__(self, model, start):
+        self.model, self.start = model, start
+        self.done = False
+        self.profiles = 0
+
+    def __contains__(self, cycle):
+        if self.done or cycle < self.start:
+            return False
+        if self.model.stop_pin and self.model.stage.v == 0:
+            self.done, self.profiles = True, len(self.model.profiles)
+            return False
+        return True
+
+
+@cocotb.test()
+async def stop_released_at_rest(dut):
+    """stop released in the clock the machine comes to rest: the flush still comes
+    at the next edge and drops everything, the queued profiles included (the stage
+    takes none of them), and a new program runs from where the axes stopped."""
+    bind(dut)
+    rng = random.Random(SEED + 8)
+    bench = new_bench(dut, cfg=random_cfg(rng), seed=SEED + 8)
+    await bench.start()
+    first = await start_interrupted_program(bench, rng)
+    stopper = StopUntilRest(bench.model, bench.cycle + 1)
+    bench.stop_schedule = stopper
+    while not stopper.done:
+        await FallingEdge(dut.clk)
+    await bench.source.wait()
+    await bench.drain()
+    stopped = bench.last["pos"]
+    assert bench.moves < len(expect(first, NA, W)[0]), "stop came too late to test anything"
+    assert stopper.profiles > 0, "no profile queued at the stop: nothing to drop"
+    second = plan(rng, [random_line(rng, NA, scale=20), random_arc(rng)])
+    bench.trace.clear()
+    await bench.send(second)
+    await bench.drain()
+    assert bench.trace == expected_from(second, stopped)
+
+
 @cocotb.test()
 async def abort_then_new_program(dut):
     """Abort in the middle of a program (with segments queued, one in flight

@@ -9,8 +9,8 @@ Data path, clock by clock (issue 13: the interpolators decoupled from the pacing
   move queue head + profile queue head -> profile stage (``spec.profile``) -> pop ->
   STEP/DIR generators and positions
 
-* Queue: takes a beat when tvalid & tready, tready = queue not full, abort_now low
-  and not (stop high with the profile stage at rest).
+* Queue: takes a beat when tvalid & tready, tready = queue not full, abort_now low,
+  not (stop high with the profile stage at rest) and no stop flush at this edge.
 * Dispatcher: at most one command *in flight* (handed to a unit and not yet
   started or rejected), so the two units run segments in program order.  It
   decodes the queue head: a bad opcode, reserved bits or a field that does not fit
@@ -34,13 +34,20 @@ Data path, clock by clock (issue 13: the interpolators decoupled from the pacing
   class (axis move, diagonal arc move, line iteration) and whether it is its
   segment's last.
 * Profile stage (``spec.profile.ProfileStage``, the one definition of the pacing):
-  pops the head move when its credit covers the move's cost and every axis the
-  move steps is ready for its direction (the STEP/DIR generators); takes the next
-  profile when the current segment's last move pops (or when none is current).
-  ``hold`` decelerates to rest and waits; ``stop`` decelerates to rest and then
-  (every edge at rest while it is high) drops everything not yet moved, like
-  abort_now; ``feed_override`` (1/128, 0..128) scales the cruise speed, its changes
-  ramping at the segment's acceleration.
+  pops the head move when its credit covers the move's cost and every axis the move
+  steps is ready for its direction (the STEP/DIR generators); takes the next profile
+  when the current segment's last move pops (or when none is current).  ``hold``
+  decelerates to rest and waits; ``stop`` decelerates to rest and then drops
+  everything not yet moved, like abort_now, one clock later: an edge at rest with
+  stop high (the stage's ``stopped``: the stage drops its own segment and credit,
+  pops and takes nothing; the rest of the core clocks as on any edge, a reject there
+  reported, but an OUTPUT does not load while stop is high) sets the flush register,
+  and the next edge is the flush (``_flush``; the stage sees stop held high at it,
+  so it takes nothing from the queues being dropped).  A stop held high at rest
+  therefore flushes at every edge from the second one on.  The flush is a register so
+  that no path runs from the stage's speed register through the dispatcher to the
+  queue's clock enables.  ``feed_override`` (1/128, 0..128) scales the cruise speed,
+  its changes ramping at the segment's acceleration.
 * Helix (``spec.helix``): the arc unit's moves are in its plane (u, v); the mapper
   puts them on the command's two axes and steps the helix slots' axes against the
   arc's move count N; an arc whose move count is not N reports E_HELIX_COUNT at its
@@ -50,7 +57,9 @@ Data path, clock by clock (issue 13: the interpolators decoupled from the pacing
 * Outputs (``spec.outputs.OutputStage``): an OUTPUT command waits at the queue
   head until everything before it has moved (nothing in flight, both units idle,
   the move and profile queues empty, the profile stage idle: no segment and speed
-  0), then pops and loads the spindle, laser and coolant settings at that edge.
+  0) and stop is low, then pops and loads the spindle, laser and coolant settings at
+  that edge.  (An idle stage is at rest, so with stop high that edge is a stop at
+  rest: the OUTPUT is dropped by the flush that follows, as it always was.)
   The output stage sees the profile stage's speed and, on each ``take``, the new
   segment's cruise speed; abort and a stop at rest switch every output off.
 * Underrun: a segment with CONT set made its last move and no next profile was
@@ -270,11 +279,15 @@ class CoreModel:
         # edge after they rise; tready depends on these registers)
         self.abort_pin = 0
         self.stop_pin = 0
+        # the stop flush register: set at an edge at rest with stop high, the next
+        # edge drops everything not yet moved
+        self.flush_q = False
 
     def _flush(self, i: CoreInputs, stage_in: pf.ProfileInputs | None = None) -> None:
-        """An edge with abort high, or stop high at rest (``stage_in``: the stage's
-        inputs, it drops its segment itself): no move, everything not yet moved
-        dropped, the profile in force forgotten."""
+        """An edge with abort high, or with the stop flush register set (``stage_in``:
+        the stage's inputs with stop held high; it is at rest with no segment since
+        the edge before): no move, everything not yet moved dropped, the profile in
+        force forgotten."""
         self.queue.clear()
         self.inflight = None
         self.accepted = False
@@ -327,7 +340,8 @@ class CoreModel:
             or self.arc.outputs().busy or self.line.outputs().busy \
             or bool(self.moves) or bool(self.profiles) or bool(so.busy) \
             or any(sg.state != 0 for sg in self.stepgens)
-        at_rest_stop = self.stop_pin and so.v == 0
+        # a stop at rest now (the stage's stopped) or the stop flush at this edge
+        at_rest_stop = (self.stop_pin or self.flush_q) and so.v == 0
         return CoreOutputs(
             tready=int(len(self.queue) < self.depth and not self.abort_pin
                        and not at_rest_stop),
@@ -337,9 +351,11 @@ class CoreModel:
             **self._output_pins())
 
     # -- combinational views ------------------------------------------
-    def head_view(self) -> HeadView:
+    def head_view(self, stop: int = 0) -> HeadView:
         """Dispatcher: decode the queue head (when nothing is in flight), apply the
-        profile rules and see which unit takes it; the units' reject pulses."""
+        profile rules and see which unit takes it; the units' reject pulses.  ``stop``
+        (the registered stop): an OUTPUT does not load (with the machine idle that is a
+        stop at rest, and the next edge drops it)."""
         h = HeadView(profile=self.profile)
         if self.inflight is None and self.queue:
             dec, h.profile = dispatch(decode_for_core(self.queue[0], self.axes, self.width),
@@ -349,7 +365,7 @@ class CoreModel:
             elif dec[0] == "nop":
                 h.pop = True
             elif dec[0] == "output":
-                if self.downstream_idle():
+                if self.downstream_idle() and not stop:
                     h.pop, h.output = True, dec[1]
             else:
                 h.cmd = dec
@@ -385,7 +401,7 @@ class CoreModel:
     # -- the edge, section by section -----------------------------------
     def clock(self, i: CoreInputs) -> pf.ProfileView | None:
         """One rising edge; returns the profile stage's view of the clock (None on
-        reset and flush edges)."""
+        reset and flush edges: abort, or the stop flush register set)."""
         if i.rst:
             self.reset()
             return None
@@ -394,15 +410,19 @@ class CoreModel:
         i = replace(i, abort=self.abort_pin, stop=self.stop_pin)
         self.abort_pin, self.stop_pin = raw_abort, raw_stop
         if i.abort:
+            self.flush_q = False
             self._flush(i)
+            return None
+        # a stop at rest during this clock flushes at the next edge; a flush edge
+        # (the register set) holds the stage's stop high
+        flush, self.flush_q = self.flush_q, bool(i.stop and self.stage.v == 0)
+        if flush:
+            self._flush(i, self.stage_inputs(replace(i, stop=1)))
             return None
         sin = self.stage_inputs(i)
         w = self.stage.view(sin)
-        if w.stopped:
-            self._flush(i, sin)
-            return None
-        head = self.head_view()
-        self._clock_queue(i, head)
+        head = self.head_view(i.stop)
+        self._clock_queue(i, head, w.stopped)
         loading, push = self._clock_units(head)
         popped = self.moves[0] if w.pop else None
         self._clock_move_queue(w, push)
@@ -414,9 +434,10 @@ class CoreModel:
         self._clock_status(head, popped, w)
         return w
 
-    def _clock_queue(self, i: CoreInputs, head: HeadView) -> None:
-        """Pop the head if it left; push a beat (tready from the level before the edge)."""
-        push = i.tvalid and len(self.queue) < self.depth
+    def _clock_queue(self, i: CoreInputs, head: HeadView, at_rest_stop: bool) -> None:
+        """Pop the head if it left; push a beat (tready from the level before the edge;
+        low at a stop at rest)."""
+        push = i.tvalid and len(self.queue) < self.depth and not at_rest_stop
         if head.pop:
             self.queue.pop(0)
         if push:
