@@ -135,6 +135,11 @@ async def rejects_then_valid(dut):
         ((0, half - 1, 0, half - 1, 0), ERR_RANGE),         # R = M - 1
         ((0, -half, 0, -half, 0), ERR_RANGE),               # most negative field
         ((1, half - 1, half - 1, half - 1, half - 1), ERR_RANGE),
+        # R^2 = (M - 2)^2 + ys^2 just above the limit (M - 1)(M - 2), one
+        # move from the end (found by mutation testing: R^2 with bit 15
+        # cleared in the range check at W = 16 passed it)
+        ((0, half - 2, math.isqrt(half - 2) + 1, half - 2, math.isqrt(half - 2) + 2),
+         ERR_RANGE),
         ((0, 100, 0, 0, 103), ERR_END_OFF),                 # 3 BLU outside
         ((1, 100, 0, 0, 98), ERR_END_OFF),                  # 2 BLU inside
         ((0, 5, 0, -5, 5), ERR_END_OFF),
@@ -685,3 +690,44 @@ async def long_quadrant(dut):
     results, stats = await bench.run(cmds)
     check_results(results, cmds)
     dut._log.info("long quadrant: %s, %d moves", cmds[0], stats.moves)
+
+
+@cocotb.test()
+async def start_past_end(dut):
+    """A start in the end point's quadrant and octant that lies past the end
+    in its progress order (v > ve, first octant): the arc is not armed and
+    runs almost the full circle.  Here v = 300 has bit 8 set and v - 256 <
+    ve = 50 (found by mutation testing: a mutant that clears bit 8 of v in
+    the compare v < ve armed the arc and stopped it after one move)."""
+    bind(dut)
+    bench = ArcBench(dut, W, seed=SEED + 71)
+    await bench.start()
+    cmds = [(0, 400, 300, 497, 50), (1, 300, 400, 50, 497)]
+    results, stats = await run_accepted(dut, bench, cmds, "start past end")
+    for r in results:
+        assert len(r.moves) > 2000, f"{r.cmd}: {len(r.moves)} moves, not the long way round"
+
+
+@cocotb.test()
+async def axis_starts(dut):
+    """Short arcs (five moves) from starts on an axis at every power of two
+    up to the width's limit, (±2^k, 0) and (0, ±2^k), both directions: the
+    radius-zero check sees one coordinate zero and the other with a single
+    bit set (found by mutation testing: a mutant that forced bit 3 of |ys| to
+    0 in the check |ys| == 0 rejected the start (0, 8) with code 1)."""
+    from halfpoint.spec.arc import ArcRun
+
+    bind(dut)
+    bench = ArcBench(dut, W, seed=SEED + 83)
+    await bench.start()
+    cmds = []
+    for k in range(W - 2):
+        r = 1 << k
+        for xs, ys in ((r, 0), (-r, 0), (0, r), (0, -r)):
+            for cw in (0, 1):
+                run = ArcRun(xs, ys, xs, ys, cw, W)
+                for _ in range(5):
+                    if not run.done:        # radius 1: the full circle has 4 moves
+                        run.advance()
+                cmds.append((cw, xs, ys, run.x, run.y))
+    await run_accepted(dut, bench, cmds, "axis starts")
