@@ -871,7 +871,7 @@ module halfpoint_profile #(
     reg  [F_GW-1:0] f_gap_q;        // edges since the speed last changed, saturating
     reg             f_last_up_q;    // that change was a rise
     reg             f_last_down_q;  // that change was a fall
-    reg  [37:0]     f_v_before_q;   // v_q a clock ago
+    reg  [37:0]     f_v_before_q;   // v_q a clock ago ($past(v_q), also in assigns)
     always @(posedge clk)
         f_v_before_q <= v_q;
     wire            f_rise = f_ordinary && (v_q > f_v_before_q);
@@ -891,10 +891,10 @@ module halfpoint_profile #(
     always @(posedge clk)
         if (f_ordinary) begin
             if ($past(cur_valid_n)) begin
-                a_rise_by_accel: assert({1'b0, v_q} <= {1'b0, $past(v_q)}
+                a_rise_by_accel: assert({1'b0, v_q} <= {1'b0, f_v_before_q}
                                                        + {5'd0, $past(accel_q)});
                 a_fall_by_accel: assert({1'b0, v_q} + {5'd0, $past(accel_q)}
-                                        >= {1'b0, $past(v_q)});
+                                        >= {1'b0, f_v_before_q});
             end else begin
                 a_no_segment_rest: assert(v_q == 38'd0 && !cur_valid_q);
             end
@@ -944,7 +944,7 @@ module halfpoint_profile #(
     always @(posedge clk)
         if (f_ordinary && $past(f_past_valid) && $past(!rst && !abort_now, 2)) begin
             if (($past(hold) && $past(hold, 2)) || ($past(stop) && $past(stop, 2)))
-                a_held_no_rise: assert(v_q <= $past(v_q));
+                a_held_no_rise: assert(v_q <= f_v_before_q);
             if ($past(holding) && $past(hold, 2))
                 a_holding_stays: assert(v_q == 38'd0);
         end
