@@ -997,6 +997,254 @@ module halfpoint_core #(
         end
     end
 
+`ifdef FORMAL
+    // ========================================================================
+    // Formal properties (SymbiYosys: formal/halfpoint_core.sby, run by
+    // python -m halfpoint.flows.formal).  Verilator, Icarus and the cocotb
+    // builds do not define FORMAL, so they see the module above unchanged.
+    // ========================================================================
+    // The .sby reads this file and the step generators' with FORMAL (the
+    // generators' own proven properties then hold here too, and their
+    // invariants help the induction); the arc, line, helix, profile and
+    // outputs modules are read without it: their inputs come from this
+    // module, and their properties assume things of their inputs that are
+    // proven separately.  Every input is free on every clock (rst high on the
+    // first) except the pin polarities, which are setup values: constant.
+    // Asserted (a_* the contract, i_* invariants for the induction):
+    //   queue    a beat is pushed only while the queue has room; the
+    //            dispatcher pops only a present command, each pop for exactly
+    //            one reason (a reject, a no-op, a profile loaded, handed to
+    //            the arc unit or to the line unit, an OUTPUT loaded); the
+    //            commands pop in the order they were pushed, each exactly once
+    //            and unchanged (the k-th beat pushed since the last flush is
+    //            the k-th popped, with its decoded entry: a free index
+    //            f_pick follows one beat through the queue), and only a flush
+    //            (abort_now or a stop at rest) drops any;
+    //   steps    steps_ready_q, the registered readiness the pop reads, is on
+    //            every clock the readiness of the head move's axes; so every
+    //            step request is taken by its generator (none dropped), and
+    //            each axis's position equals the steps on its pins: the sum
+    //            of STEP pulses begun (+1 with DIR positive, -1 negative),
+    //            plus one for a step taken whose pulse waits for dirsetup.
+    // F_UNITS (bounded checks only) adds what rests on the units' own
+    // behaviour: a command handed to a unit is held by it, and by no other,
+    // until it is loaded or rejected, validated within W + 5 clocks, and a
+    // unit loads or rejects only the command handed to it (none lost,
+    // duplicated or run by the wrong unit between the dispatcher and the
+    // units); once the profile stage holds at rest under a hold, no step is
+    // requested while the hold stays high.  F_LINE_COST_BLU (bounded checks
+    // only) assumes PROFILE line costs of at least one BLU.
+    reg f_past_valid;
+    initial f_past_valid = 1'b0;
+    always @(posedge clk)
+        f_past_valid <= 1'b1;
+    always @(*)
+        if (!f_past_valid)
+            assume(rst);
+    always @(posedge clk)
+        if (f_past_valid) begin
+            assume(cfg_step_inv == $past(cfg_step_inv));
+            assume(cfg_dir_inv == $past(cfg_dir_inv));
+        end
+
+`ifdef F_LINE_COST_BLU
+    // a PROFILE's line cost of at least one BLU (or 0, an arc's): for the
+    // bounded check only (not a rule of the core: a Z line is cheaper when Z's
+    // BLU is finer than X's), as in the profile stage's own bounded check,
+    // whose step 9 ran past 10 minutes without it
+    always @(*)
+        if (s_axis_tvalid && is_profile)
+            assume(profile_line_cost == 18'd0 || profile_line_cost >= 18'd65536);
+`endif
+
+    // ---- queue ----
+    always @(*) begin
+        if (f_past_valid) begin
+            i_count: assert(count_q <= QUEUE_FULL &&
+                            count_q[INDEX_W-1:0] == write_index_q - read_index_q);
+            a_push_room: assert(!push || count_q != QUEUE_FULL);
+            a_pop_present: assert(!pop || count_q != {(INDEX_W+1){1'b0}});
+            a_pop_one_reason: assert(!pop || $onehot({dispatch_error,
+                                                    head_ok && head_nop && !head_bad,
+                                                    profile_load, arc_take, line_take,
+                                                    output_load}));
+            a_no_pop_on_flush: assert(!(pop && flush));
+        end
+    end
+    // a decoded entry's flags are consistent: one kind (arc, line, profile,
+    // OUTPUT or none), CW only for an arc, each error flag only after the
+    // checks before it passed, no-op only for a good line
+    function f_flags_ok;
+        input [FLAGS_W-1:0] flags;
+        begin
+            f_flags_ok = ($countones({flags[0], flags[2], flags[7], flags[9]}) <= 1) &&
+                         (!flags[1] || flags[0]) &&
+                         (!flags[5] || !flags[4]) &&
+                         (!flags[10] || (!flags[4] && !flags[5] && flags[0])) &&
+                         (!flags[8] || (!flags[4] && flags[7])) &&
+                         (!flags[6] || (!flags[4] && !flags[5] && flags[2]));
+        end
+    endfunction
+    always @(*)
+        if (f_past_valid)
+            a_decode: assert(f_flags_ok(in_flags));
+    // the flags register is the head's flags, and each queued entry's flags
+    // copy is its entry's flags, which are consistent
+    genvar fi;
+    generate
+        for (fi = 0; fi < DEPTH; fi = fi + 1) begin : g_f_slot
+            wire [INDEX_W-1:0] f_offset = fi[INDEX_W-1:0] - read_index_q;
+            wire f_queued = ({1'b0, f_offset} < count_q);
+            always @(*)
+                if (f_past_valid && f_queued)
+                    assert(flags_mem[fi] == queue_mem[fi][FLAGS_W-1:0] &&
+                           f_flags_ok(flags_mem[fi]));
+        end
+    endgenerate
+    always @(*)
+        if (f_past_valid && count_q != {(INDEX_W+1){1'b0}})
+            i_head_flags: assert(head_flags_q == flags_mem[read_index_q]);
+
+    // One beat, chosen freely (f_choose) when pushed while none is followed,
+    // is followed through the queue: f_ahead_q commands were ahead of it at
+    // its push, one fewer after each pop; it must pop exactly when none is
+    // ahead, with the entry decoded from it at its push (so every command
+    // pops once, in order, unchanged), unless a flush drops the queue.
+    (* anyseq *) reg f_choose;
+    reg                f_follow_q;
+    reg  [INDEX_W:0]   f_ahead_q;
+    reg  [INDEX_W-1:0] f_slot_q;
+    reg  [ENTRY_W-1:0] f_entry_q;
+    wire [INDEX_W:0]   f_count_after_pop = count_q - (pop ? COUNT_ONE : {(INDEX_W+1){1'b0}});
+    always @(posedge clk) begin
+        if (rst || flush) begin
+            f_follow_q <= 1'b0;
+        end else if (!f_follow_q) begin
+            if (push && f_choose) begin
+                f_follow_q <= 1'b1;
+                f_ahead_q <= f_count_after_pop;
+                f_slot_q <= write_index_q;
+                f_entry_q <= in_entry;
+            end
+        end else if (pop) begin
+            if (f_ahead_q == {(INDEX_W+1){1'b0}}) begin
+                f_follow_q <= 1'b0;
+            end else begin
+                f_ahead_q <= f_ahead_q - COUNT_ONE;
+            end
+        end
+    end
+    always @(*) begin
+        if (f_past_valid && f_follow_q) begin
+            i_follow_ahead: assert(f_ahead_q < count_q);
+            i_follow_slot: assert(f_slot_q == read_index_q + f_ahead_q[INDEX_W-1:0]);
+            i_follow_stored: assert(queue_mem[f_slot_q] == f_entry_q);
+            if (pop && f_ahead_q == {(INDEX_W+1){1'b0}})
+                a_pop_in_order: assert({head_payload, head_flags_q} == f_entry_q);
+        end
+    end
+
+    // ---- steps ----
+    wire [NA-1:0] f_ready_dir;         // each axis ready for the head move's direction
+    wire [NA-1:0] f_active;            // STEP active (pin level with polarity undone)
+    wire [NA-1:0] f_positive;          // DIR positive
+    genvar fa;
+    generate
+        for (fa = 0; fa < NA; fa = fa + 1) begin : g_f_axis
+            assign f_ready_dir[fa] = head_dir[fa] ? unused_ready_pos[fa] : unused_ready_neg[fa];
+            assign f_active[fa] = step_pin[fa] ^ cfg_step_inv[fa];
+            assign f_positive[fa] = dir_pin[fa] ^ cfg_dir_inv[fa];
+            // the steps on the pins: pulses begun before this clock, this
+            // clock's if one begins, and a step taken that waits for dirsetup
+            // (the generator busy with STEP inactive)
+            reg          f_active_q;
+            reg  [W-1:0] f_pins_q;
+            wire [W-1:0] f_sign = f_positive[fa] ? POSITION_ONE : {W{1'b1}};
+            wire         f_begins = f_active[fa] && !f_active_q;
+            wire         f_waits = stepgen_busy[fa] && !f_active[fa];
+            wire [W-1:0] f_pins = f_pins_q + (f_begins ? f_sign : {W{1'b0}});
+            always @(posedge clk) begin
+                if (rst) begin
+                    f_active_q <= 1'b0;
+                    f_pins_q <= {W{1'b0}};
+                end else begin
+                    f_active_q <= f_active[fa];
+                    f_pins_q <= f_pins;
+                end
+            end
+            always @(*)
+                if (f_past_valid) begin
+                    assert(!(go && head_step[fa]) || f_ready_dir[fa]);
+                    assert(pos[fa*W +: W] ==
+                                       f_pins + (f_waits ? f_sign : {W{1'b0}}));
+                end
+        end
+    endgenerate
+    always @(*)
+        if (f_past_valid)
+            i_steps_ready: assert(steps_ready_q == &(~head_step | f_ready_dir));
+
+    // ---- between the dispatcher and the units ----
+    always @(*)
+        if (f_past_valid)
+            a_one_in_flight: assert(!(arc_take || line_take) || !in_flight_q);
+`ifdef F_UNITS
+    // the unit the command in flight was handed to (1: the arc unit), and the
+    // clocks it has been held without being validated
+    reg        f_to_arc_q;
+    reg  [5:0] f_wait_q;
+    always @(posedge clk) begin
+        if (arc_take || line_take) f_to_arc_q <= arc_take;
+        if (rst || flush || !in_flight_q || arc_pending || line_pending) begin
+            f_wait_q <= 6'd0;
+        end else if (f_wait_q != 6'd63) begin
+            f_wait_q <= f_wait_q + 6'd1;
+        end
+    end
+    always @(*) begin
+        if (f_past_valid) begin
+            // the command in flight is held by its unit (whose s_ready is low
+            // while it holds one; its reject is registered: on that clock the
+            // unit is empty again) and by no other
+            if (in_flight_q) begin
+                a_held_by_its_unit: assert(f_to_arc_q ? (!arc_s_ready || arc_reject)
+                                                      : (!line_s_ready || line_reject));
+                a_not_by_the_other: assert(f_to_arc_q ? !line_pending && !line_loading &&
+                                                         !line_reject
+                                                       : !arc_pending && !arc_loading &&
+                                                         !arc_reject);
+                // validated within the unit's latency (W + 5 clocks, NA + 2)
+                a_validated_in_time: assert(f_wait_q <= W + 5);
+            end
+            // a unit loads or rejects only the command in flight, once
+            a_load_handed: assert(!(arc_loading || arc_reject) || (in_flight_q && f_to_arc_q));
+            a_line_handed: assert(!(line_loading || line_reject) ||
+                                  (in_flight_q && !f_to_arc_q));
+        end
+    end
+    // once the profile stage holds at rest under a hold, no step is
+    // requested while the hold stays high
+    reg f_rest_q;
+    always @(posedge clk)
+        f_rest_q <= !rst && ((stage_holding && hold) || (f_rest_q && hold));
+    always @(*)
+        if (f_past_valid && f_rest_q && hold)
+            a_rest_kept: assert(!go);
+`endif
+
+    // ---- reachable ----
+    always @(*) begin
+        if (f_past_valid && !rst) begin
+            c_step_x: cover(go && head_step[0]);
+            c_step_y: cover(go && head_step[1]);
+            c_followed_arc: cover(f_follow_q && arc_take && f_ahead_q == 0);
+            c_followed_line: cover(f_follow_q && line_take && f_ahead_q == 0);
+            c_holding: cover(stage_holding && hold && move_valid);
+            c_full: cover(count_q == QUEUE_FULL);
+        end
+    end
+`endif
+
 endmodule
 
 `default_nettype wire

@@ -2,8 +2,9 @@
 """The formal flow (halfpoint.flows.formal): the quick proofs pass, with tools
 from the venv only, and a broken step generator (steplen off by one, made
 from the real RTL by a textual edit) fails the proof with a VCD trace, as
-do a line unit that takes a command while it holds one (one is lost) and a
-profile stage whose speed rises by twice its acceleration.
+do a line unit that takes a command while it holds one (one is lost), a
+profile stage whose speed rises by twice its acceleration and a core that
+takes a beat while its queue is full.
 The full set (all tasks, every mutant) is `make formal`."""
 
 from __future__ import annotations
@@ -45,7 +46,8 @@ def test_quick_proofs_pass():
     assert rc == 0
     import json
     rows = json.loads((out / "report.json").read_text())
-    for design in ("halfpoint_stepgen", "halfpoint_line", "halfpoint_arc", "halfpoint_profile"):
+    for design in ("halfpoint_stepgen", "halfpoint_line", "halfpoint_arc", "halfpoint_profile",
+                   "halfpoint_core"):
         mine = [r for r in rows if r["name"].startswith(f"{design}:")]
         assert mine and all(r["status"] == "PASS" and r["mode"] == "prove" for r in mine), \
             design
@@ -93,6 +95,16 @@ def test_profile_double_acceleration_fails_with_trace(tmp_path):
     assert r.status == "FAIL", r
     assert r.traces and Path(r.traces[0]).exists()
     assert "a_rise_by_accel" in " ".join(r.failed), r.failed
+
+
+def test_core_push_when_full_fails_with_trace(tmp_path):
+    """A core whose tready ignores a full queue overwrites a queued command:
+    the bounded check of the core finds the push without room."""
+    m = next(m for m in formal.MUTANTS if m.name == "core_push_when_full")
+    (r,) = formal.run_mutant(m, tmp_path / "mut")
+    assert r.status == "FAIL", r
+    assert r.traces and Path(r.traces[0]).exists()
+    assert "a_push_room" in " ".join(r.failed), r.failed
 
 
 def test_line_quick_task_is_the_induction_proof():

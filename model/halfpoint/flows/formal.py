@@ -166,6 +166,28 @@ MUTANTS = [
            "wire [41:0]   credit_rest = 1'b0 ? 42'd0",
            ("bmc_div2",),
            "a stop at rest keeps the credit (the next segment would start with it)"),
+    Mutant("core_push_when_full", "halfpoint_core", "rtl/halfpoint_core.v",
+           "assign s_axis_tready = (count_q != QUEUE_FULL) && !abort_q && !stage_stopped;",
+           "assign s_axis_tready = !abort_q && !stage_stopped;",
+           ("bmc_na2",),
+           "tready high with the queue full (a beat overwrites the oldest command)"),
+    Mutant("core_head_flags_stale", "halfpoint_core", "rtl/halfpoint_core.v",
+           "? flags_mem[read_index_next] : in_flags;",
+           "? flags_mem[read_index_q] : in_flags;",
+           ("bmc_na2",),
+           "after a pop the head's flags are the popped command's (a command dispatched "
+           "as another kind)"),
+    Mutant("core_position_wrong_way", "halfpoint_core", "rtl/halfpoint_core.v",
+           "? pos[a*W +: W] + POSITION_ONE",
+           "? pos[a*W +: W] - POSITION_ONE",
+           ("bmc_na2",),
+           "a positive step counted as negative (positions no longer the pins' steps)"),
+    Mutant("core_popped_axis_ready", "halfpoint_core", "rtl/halfpoint_core.v",
+           "wire [NA-1:0] pop_axis_ready = ~head_step",
+           "wire [NA-1:0] pop_axis_ready = {NA{1'b1}}",
+           ("bmc_na2",),
+           "a popped move's axes counted ready at the next clock (a request while the "
+           "generator is busy: a step dropped)"),
 ]
 
 
