@@ -180,12 +180,12 @@ MUTANTS = [
     Mutant("core_position_wrong_way", "halfpoint_core", "rtl/halfpoint_core.v",
            "? pos[a*W +: W] + POSITION_ONE",
            "? pos[a*W +: W] - POSITION_ONE",
-           ("bmc_na2",),
+           ("steps_na2",),
            "a positive step counted as negative (positions no longer the pins' steps)"),
     Mutant("core_popped_axis_ready", "halfpoint_core", "rtl/halfpoint_core.v",
            "wire [NA-1:0] pop_axis_ready = ~head_step",
            "wire [NA-1:0] pop_axis_ready = {NA{1'b1}}",
-           ("bmc_na2",),
+           ("steps_na2",),
            "a popped move's axes counted ready at the next clock (a request while the "
            "generator is busy: a step dropped)"),
 ]
