@@ -38,6 +38,12 @@ def test_quick_tasks_are_tagged():
     assert {name for _, _, name in proofs} >= {"halfpoint_stepgen:stable_tw4",
                                                "halfpoint_stepgen:live_tw4"}
     assert mutants == []
+    # a mutants-only task (a bounded check the real design is proven by another
+    # task) is not planned as a proof, but the mutants that name it run it
+    assert "mutants_only" in formal.sby_tasks(formal.FORMAL / "halfpoint_core.sby")["steps_na2"]
+    proofs, mutants = formal.plan(False, [])
+    assert "halfpoint_core:steps_na2" not in {name for _, _, name in proofs}
+    assert any("steps_na2" in m.tasks for m in mutants)
 
 
 def test_quick_proofs_pass():

@@ -15,7 +15,9 @@ engine needs no abc.)
 
 Proofs.  Every task of every formal/<design>.sby is one proof, named
 ``<design>:<task>``; tasks tagged ``quick`` in the .sby's [tasks] section are
-the ``--quick`` set.  NAME selects proofs by design, task or ``design:task``
+the ``--quick`` set; tasks tagged ``mutants_only`` are run only on mutants
+(a bounded check that shows a mutant failing, where an induction of another
+task is the proof).  NAME selects proofs by design, task or ``design:task``
 (and mutants by name).  Each runs in build/formal/<design>_<task>/ (sby's
 work directory); the table gives mode, depth, result, wall time, and for a
 failure the failed assertions and the counterexample trace (VCD).  An
@@ -378,6 +380,10 @@ def run_mutant(m: Mutant, root: Path, tasks=None) -> list[Result]:
 
 
 def selected(names, design, task, quick, tags) -> bool:
+    # a task tagged `mutants_only` exists for the mutants (a check the real
+    # design need not pass in reasonable time, as another task proves it)
+    if "mutants_only" in tags:
+        return False
     if names:
         return any(n in (design, task, f"{design}:{task}") for n in names)
     return "quick" in tags if quick else True
