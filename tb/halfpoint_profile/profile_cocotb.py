@@ -7,11 +7,14 @@ the inputs of a clock, the driver puts them on the pins, the monitor reads the
 pins (and the registers), the model is ``halfpoint.spec.profile.ProfileStage``, and
 the checker compares.  Every clock: the combinational view (pop, take, stopped,
 holding) after the inputs settle, the registered outputs (speed, dry, busy) after
-the edge, and every register of the model against its RTL counterpart.
+the edge, and every register of the model against its RTL counterpart (not with
+HP_PROFILE_REGISTERS=0: the pins only; HP_PROFILE_SCOPE names the instance that
+holds them when it is not the top, as in the mutation flow's wrapper).
 """
 
 from __future__ import annotations
 
+import copy
 import os
 import random
 from dataclasses import dataclass, field
@@ -29,6 +32,16 @@ from halfpoint.spec.profile import (CLASS_AXIS, CLASS_DIAG, CLASS_LINE, COST_AXI
 W = DIV = 0         # the design's parameters: bind() reads them
 SEED = int(os.environ.get("HP_SEED", "1"))
 CLOCKS = int(os.environ.get("HP_PROFILE_CLOCKS", "15000"))    # per test, roughly
+# 1: also run long_segment (about 2^(W - 1) clocks; the mutation flow sets it)
+LONG = os.environ.get("HP_PROFILE_LONG", "0") == "1"
+# 0: compare the pins only (the view and the registered outputs), not the internal
+# registers (a measure of what the pins alone tell: the equivalence the mutation
+# flow's --prove checks is at the ports)
+REGISTERS = os.environ.get("HP_PROFILE_REGISTERS", "1") != "0"
+# the instance below the top that holds the registers, "" for the top itself: the
+# mutation flow (halfpoint.flows.mutate) sets u_mutants, its wrapper's instance of
+# the mutated netlist, whose registers keep their names
+SCOPE = os.environ.get("HP_PROFILE_SCOPE", "")
 
 
 def bind(dut) -> None:
@@ -261,7 +274,7 @@ class Stimulus:
         self.rng = rng
         self.program: Program | None = None
         self.events = Events()
-        self.programs = {"planned": 0, "raw": 0}
+        self.programs = {"planned": 0, "raw": 0, "aligned": 0}
         self.ends = {"done": 0, "stopped": 0, "aborted": 0, "budget": 0}
 
     def start(self, program: Program, events: Events) -> None:
@@ -313,6 +326,137 @@ class Stimulus:
         return False
 
 
+# --- programs aimed at the staircase's returns and at near-exact speeds ---------------------
+
+def aligned_speeds(rng, offset: int | None = None) -> tuple:
+    """(v_cruise, v_exit, accel) fields whose register values lie a whole number of
+    speed steps apart give or take a few LSB (or up to 2^20): the cruise speed k
+    steps from 0, the exit speed m steps below it.  The speed's clamp at its target,
+    the hold's last step to 0 and the staircase's way to its floor are then decided
+    by a compare within a few LSB of its threshold, where a stuck low bit of its
+    carry-save sum or a compare off by one changes the outcome."""
+    k = rng.choice(range(3, 12, 2))                 # odd: invertible modulo 64
+    if offset is None:
+        offset = rng.choice((rng.randint(-6, 6), rng.randint(-(1 << 20), 1 << 20)))
+    top = min(((1 << 38) - (1 << 21)) // k, (1 << 34) - 64) >> 6
+    accel = (rng.randint(1 << 16, top) << 6) + (-offset * pow(k, -1, 64)) % 64
+    peak = k * accel + offset                       # a multiple of 64
+    m = rng.randint(1, k - 1)
+    below = peak - m * accel - rng.choice((rng.randint(-6, 6), rng.randint(0, 1 << 20)))
+    v_exit = min(max(below, 0) >> pf.SPEED_SHIFT, peak >> pf.SPEED_SHIFT)
+    return peak >> pf.SPEED_SHIFT, rng.choice((v_exit, v_exit, 0)), accel
+
+
+def aligned_program(rng, dry_exit: bool = False, offset: int | None = None) -> Program:
+    """Two planned segments (axis and diagonal moves) with ``aligned_speeds``, the
+    first long enough to reach its cruise speed, the second of 3 to 10 moves;
+    ``dry_exit``: the first with an exit speed above 0, so that it has a dry
+    staircase (d_stop before d_exit)."""
+    speeds = [aligned_speeds(rng, offset), aligned_speeds(rng)]
+    cruise, v_exit, accel = speeds[0]
+    if dry_exit:
+        v_exit = min(v_exit, cruise - 1) or cruise >> rng.randint(1, 3)
+    run_up = pf.accel_distance(0, cruise << pf.SPEED_SHIFT, accel, DIV) >> pf.COST_SHIFT
+    moves = [moves_of(rng, False, 2 * run_up // COST_AXIS + rng.randint(4, 20)),
+             moves_of(rng, False, rng.randint(3, 10))]
+    profiles = pf.plan_integer([length_of(m, 0) for m in moves], [cruise, speeds[1][0]],
+                               [v_exit, 0], [accel, speeds[1][2]], DIV, [0, 0])
+    return Program("aligned", profiles, moves, [0, 0])
+
+
+def model_states(start: ProfileStage, program: Program, events: Events,
+                 clocks: int) -> list:
+    """The model's registers before each clock of ``program`` run from the state
+    ``start`` (a copy is run: the stimulus is decided by the model's state and the
+    events, so a run on the bench follows the same clocks until an input
+    differs), up to ``clocks`` clocks or the first segment's end."""
+    model, stim = copy.deepcopy(start), Stimulus(random.Random(0))
+    stim.start(program, events)
+    states = []
+    for _ in range(clocks):
+        states.append((model.ramp_on, model.ramp_dry, model.past_exit, model.ramp_v, model.v))
+        inp = stim.inputs(model)
+        w = model.clock(inp)
+        if stim.advance(inp, w, model) or (stim.seg_in == 1 and model.cur is None):
+            break
+    return states
+
+
+DRY_RETURNS = ("before_exit", "above_exit_plus_accel", "above_exit", "below_exit")
+
+
+def dry_return_program(rng, wanted: str, model: ProfileStage) -> tuple:
+    """An ``aligned_program`` whose second profile comes while the first segment's
+    dry staircase runs (``wanted``, one of DRY_RETURNS: before d_exit, where the
+    staircase stops, or after it, with the staircase's speed at or above the exit
+    speed plus a step, at or above the exit speed, or below it, where it returns to
+    the exit speed), found by running the model from its state ``model``;
+    (program, events), or (None, None) after 30 draws without one."""
+    for _ in range(30):
+        program = aligned_program(rng, dry_exit=True)
+        first = program.profiles[0]
+        if not first.v_exit or first.d_stop >= first.d_exit:
+            continue
+        events = Events(budget=5000)
+        program.arrival = [0, 1 << 30]
+        exit_speed = first.v_exit << pf.SPEED_SHIFT
+        found = {k: [] for k in DRY_RETURNS}
+        for t, (on, dry, past_exit, ramp_v, _) in enumerate(model_states(model, program,
+                                                                         events, 4000)):
+            if not (on and dry):
+                continue
+            if not past_exit:
+                found["before_exit"].append(t)
+            elif ramp_v >= exit_speed + first.accel:
+                found["above_exit_plus_accel"].append(t)
+            elif ramp_v >= exit_speed:
+                found["above_exit"].append(t)
+            else:
+                found["below_exit"].append(t)
+        if found[wanted]:
+            program.arrival = [0, rng.choice(found[wanted])]
+            return program, events
+    return None, None
+
+
+def hold_from_cruise_program(rng, model: ProfileStage) -> tuple:
+    """An ``aligned_program`` whose first cruise speed is 1 to 4 LSB off a whole
+    number of steps, held from a clock at that speed until rest: the last step down
+    lands 1 to 4 LSB above 0 (found by running the model from its state ``model``);
+    (program, events), or (None, None) after 30 draws without one."""
+    for _ in range(30):
+        program = aligned_program(rng, offset=rng.choice((-1, 1)) * rng.randint(1, 4))
+        events = Events(budget=5000)
+        peak = program.profiles[0].v_cruise << pf.SPEED_SHIFT
+        at_peak = [t for t, state in enumerate(model_states(model, program, events, 4000))
+                   if state[4] == peak]
+        if at_peak:
+            start = at_peak[0] + rng.randint(0, 8)
+            events.holds.append((start, start + (13 << DIV)))
+            return program, events
+    return None, None
+
+
+def override_staircase_program(rng) -> tuple:
+    """A segment under an override below 128 whose exit staircase starts at once
+    (d_exit 0) and whose first step lands 1 to 4 LSB above or below the override's
+    product: the speed step is the cruise speed less that product less the offset.
+    The target's choice between the staircase and the product is then a compare
+    at its threshold; (program, events)."""
+    ov = rng.randint(72, 127)
+    while True:
+        peak = rng.randint(1 << 24, (1 << 32) - 1) << pf.SPEED_SHIFT
+        offset = rng.choice((-1, 1)) * rng.randint(1, 4)
+        accel = peak - ((peak * ov) >> 7) - offset
+        if 0 < accel < 1 << 34:
+            break
+    level = ((peak << DIV) >> pf.SPEED_FRAC) + 1            # BLU of the first level
+    profile = ProfileParams(peak >> pf.SPEED_SHIFT, 0, accel, 0, 0, 0)
+    events = Events(budget=5000)
+    events.overrides.append((0, ov))
+    return Program("aligned", [profile], [moves_of(rng, False, 2 * level + 2)], [0]), events
+
+
 # --- driver, monitor, checker ---------------------------------------------------------------
 
 class Driver:
@@ -356,6 +500,9 @@ class Monitor:
 
     def __init__(self, dut):
         self.dut = dut
+        self.inner = dut
+        for name in filter(None, SCOPE.split(".")):
+            self.inner = getattr(self.inner, name)
 
     def view(self) -> dict:
         return {k: int(getattr(self.dut, k).value) for k in VIEW}
@@ -364,7 +511,7 @@ class Monitor:
         return {k: int(getattr(self.dut, k).value) for k in OUTPUTS}
 
     def registers(self, fresh: bool = False) -> dict:
-        d = self.dut
+        d = self.inner
         got = {k: int(getattr(d, k + "_q").value) for k in (
             "cur_valid", "accel", "v_cruise", "v", "target", "credit", "gain", "s", "since",
             "last_up", "last_down", "dry", "ov", "ov_target", "past_exit", "past_stop",
@@ -461,7 +608,8 @@ class Checker:
         self.seen = {"pop": 0, "take": 0, "stopped": 0, "holding": 0, "ramp_step": 0,
                      "dry_start": 0, "left_negative": 0, "capped": 0,
                      "exact_cover": 0, "capped_pop_step": 0, "left_floor": 0,
-                     "ceiling": 0}
+                     "ceiling": 0, "near_up": 0, "near_down": 0}
+        self.returns = {k: 0 for k in DRY_RETURNS}
         self.v_before = 0
 
     @staticmethod
@@ -496,6 +644,21 @@ class Checker:
         if model.cur is not None and inp.head_valid:
             cost = pf.move_cost(inp.head_class, model.cur)
             self.seen["exact_cover"] += int(model.credit >> pf.COST_SHIFT == cost)
+        # a step that lands within 4 LSB of its target, not on it
+        v, t, a = model.v, model.target, model.accel
+        self.seen["near_up"] += int(t > v and 0 < abs(v + a - t) <= 4)
+        self.seen["near_down"] += int(t < v and 0 < abs(v - a - t) <= 4)
+        if model.cur is not None and model.ramp_on and model.ramp_dry and inp.next_valid:
+            # the next profile came while the dry staircase runs: where it returns
+            exit_speed = model.cur.v_exit << pf.SPEED_SHIFT
+            if not model.past_exit:
+                self.returns["before_exit"] += 1
+            elif model.ramp_v >= exit_speed + model.accel:
+                self.returns["above_exit_plus_accel"] += 1
+            elif model.ramp_v >= exit_speed:
+                self.returns["above_exit"] += 1
+            else:
+                self.returns["below_exit"] += 1
 
 
 # --- the loop -------------------------------------------------------------------------------
@@ -526,9 +689,10 @@ class Bench:
         await self.compare_registered("reset")
 
     async def compare_registered(self, context: str, fresh: bool = False) -> None:
+        want = model_registers(self.model, fresh)
+        got = self.monitor.registers(fresh) if REGISTERS else want
         self.checker.registered(self.clock, self.monitor.outputs(), model_outputs(self.model),
-                                self.monitor.registers(fresh),
-                                model_registers(self.model, fresh), context)
+                                got, want, context)
 
     async def run_program(self, program: Program, events: Events) -> None:
         self.stim.start(program, events)
@@ -547,6 +711,18 @@ class Bench:
             await self.compare_registered(context, fresh=w.take)
             if over:
                 return
+
+    async def step(self, inp: ProfileInputs, context: str) -> None:
+        """One clock of the given inputs, compared as every other."""
+        self.driver.drive(inp)
+        await ReadOnly()
+        got = self.monitor.view()
+        self.checker.credit(self.model, inp)
+        w = self.model.clock(inp)
+        self.checker.view(self.clock, got, model_view(w), w, context)
+        await FallingEdge(self.dut.clk)
+        self.clock += 1
+        await self.compare_registered(context, fresh=w.take)
 
     async def idle(self, clocks: int) -> None:
         """Clocks with nothing queued: noise on the profile fields, random override."""
@@ -625,3 +801,117 @@ async def raw_profiles(dut):
     # the remainder's floor, 2^(DIV + 40), is 2^(DIV + 2) clocks of full speed
     # beyond a level: these programs reach it at DIV 3
     assert seen["left_floor"] or DIV > 3
+
+
+@cocotb.test()
+async def dry_returns_and_aligned_speeds(dut):
+    """The next profile arriving while the dry staircase runs, once or more in each
+    of its four cases (DRY_RETURNS), chains of ``aligned_speeds``: steps that land
+    within a few LSB of the cruise speed, the exit speed, the floor and 0 (a hold
+    from the cruise speed), and staircases that step to within a few LSB of the
+    override's product; every clock compared.  (Written for the mutation run of
+    issue 17: its survivors of this kind were bits of these compares and of the
+    return from the dry queue.)"""
+    bind(dut)
+    bench = Bench(dut, SEED + 200)
+    await bench.start()
+    for wanted in DRY_RETURNS:
+        program, events = dry_return_program(bench.rng, wanted, bench.model)
+        assert program is not None, f"no chain with a dry return {wanted}"
+        await bench.run_program(program, events)
+    for k in range(4):
+        if k % 2:
+            program, events = hold_from_cruise_program(bench.rng, bench.model)
+            assert program is not None, "no chain held from its cruise speed"
+        else:
+            # the cruise speed 1 to 4 LSB off a whole number of steps from 0
+            offset = bench.rng.choice((-1, 1)) * bench.rng.randint(1, 4)
+            program, events = aligned_program(bench.rng, offset=offset), Events(budget=5000)
+        await bench.run_program(program, events)
+    for k in range(5):
+        await bench.run_program(*override_staircase_program(bench.rng))
+    bench.report("dry returns and aligned speeds")
+    assert all(bench.checker.returns.values()), bench.checker.returns
+    assert bench.checker.seen["near_up"] and bench.checker.seen["near_down"]
+
+
+@cocotb.test()
+async def override_products(dut):
+    """The override's product with many cruise speeds: a profile is taken under hold
+    (the speed stays 0), the override changes on each of the next four clocks (most
+    often values below 128 with most bits set, whose partial sums carry into each
+    other), and a stop at rest drops the segment; the product's registers and the
+    target compared every clock.  (Written for the mutation run of issue 17: a
+    carry of the product's second stage needs such overrides and cruise speeds.)"""
+    bind(dut)
+    bench = Bench(dut, SEED + 300)
+    await bench.start()
+    rng = bench.rng
+
+    def override() -> int:
+        return rng.choice((127, 126, 124, 123, 119, 111, 95, 63, rng.randint(0, 255)))
+    for _ in range(150):
+        cruise = rng.choice((rng.getrandbits(32), TOP_SPEED, rng.randint(1 << 28, TOP_SPEED)))
+        profile = ProfileParams(cruise, rng.randint(0, cruise), rng.randint(1, TOP_ACCEL))
+        await bench.step(ProfileInputs(next_valid=1, next_profile=profile, hold=1,
+                                       override=override()), "override products")
+        for _ in range(4):
+            await bench.step(ProfileInputs(hold=1, override=override()), "override products")
+        await bench.step(ProfileInputs(hold=1, stop=1, override=override()),
+                         "override products")
+    bench.report("override products")
+    assert bench.checker.seen["take"] == 150 and bench.checker.seen["stopped"] == 150
+
+
+@cocotb.test()
+async def one_step_approaches(dut):
+    """Speed steps that land within a few LSB of their target: a profile whose speed
+    step is its cruise speed less 1 to 4 LSB (or more, or less, up to 2^12 either
+    way) is taken under hold, released (the first step up from rest lands that far
+    from the cruise speed, where the clamp's carry-save compare decides), held back
+    to rest and dropped by a stop at rest; 10 clocks each, every clock compared.
+    (Written for the mutation run of issue 17: bits of the clamp's sum whose
+    change flips it only this close to its threshold.)"""
+    bind(dut)
+    bench = Bench(dut, SEED + 500)
+    await bench.start()
+    rng = bench.rng
+    dist_top = (1 << pf.distance_bits(W)) - 1
+    samples = 120
+    for _ in range(samples):
+        peak = rng.randint(1 << 10, (1 << 28) - 1) << pf.SPEED_SHIFT
+        offset = rng.choice((rng.randint(1, 4), rng.randint(-4, -1),
+                             rng.randint(-(1 << 12), 1 << 12)))
+        profile = ProfileParams(peak >> pf.SPEED_SHIFT, 0, peak - offset, 0, dist_top, dist_top)
+        context = "one-step approaches"
+        await bench.step(ProfileInputs(next_valid=1, next_profile=profile, hold=1), context)
+        for hold in (1, 1, 0, 0, 0, 1, 1, 1):
+            await bench.step(ProfileInputs(hold=hold), context)
+        await bench.step(ProfileInputs(hold=1, stop=1), context)
+    bench.report("one-step approaches")
+    seen = bench.checker.seen
+    assert seen["take"] == samples and seen["stopped"] == samples
+    assert seen["near_up"] >= samples // 2
+
+
+@cocotb.test(skip=not LONG)
+async def long_segment(dut):
+    """One line segment of 2^(W - 1) BLU and a little more at the top speed and
+    acceleration (line iterations of 4 BLU less 2^-16), its staircase from d_exit
+    just beyond 2^(W - 1) BLU: the popped distance s fills its bit W + 15, which a
+    shorter segment leaves 0.  About 2^(W - 1) clocks (33,000 at W 16), so only with
+    HP_PROFILE_LONG=1 (the mutation flow sets it: #55 of its run, s_plus bit 31 stuck
+    at 0, survived every shorter test); every clock compared."""
+    bind(dut)
+    assert W <= 20, f"long_segment runs 2^(W - 1) clocks: W = {W} is too wide"
+    bench = Bench(dut, SEED + 400)
+    await bench.start()
+    cost = (1 << 18) - 1
+    count = ((1 << (W - 1 + pf.COST_FRAC)) + (256 << pf.COST_FRAC)) // cost
+    d_exit = (1 << (W - 1 + pf.COST_FRAC)) + (64 << pf.COST_FRAC)
+    profile = ProfileParams(TOP_SPEED, 0, TOP_ACCEL, cost, d_exit, d_exit)
+    program = Program("raw", [profile], [[CLASS_LINE] * count], [0])
+    events = Events(budget=1 << (W + 2))
+    await bench.run_program(program, events)
+    bench.report("long segment")
+    assert bench.stim.ends["done"] == 1 and bench.checker.seen["ramp_step"]

@@ -100,7 +100,10 @@ TARGETS = {t.module: t for t in [
     Target("halfpoint_arc", ("halfpoint_arc",), {"W": 16}, "arc_cocotb",
            extra_env={"HP_SEED": 1}, why="W 16, the narrowest width tested"),
     Target("halfpoint_profile", ("halfpoint_profile",), {"W": 16, "DIV": 5},
-           "profile_cocotb", extra_env={"HP_SEED": 1}, why="as test_profile_rtl W16-DIV5"),
+           "profile_cocotb",
+           extra_env={"HP_SEED": 1, "HP_PROFILE_SCOPE": "u_mutants", "HP_PROFILE_LONG": 1},
+           why="as test_profile_rtl W16-DIV5; the test reads the registers in the "
+               "wrapper's u_mutants, and runs long_segment (33,000 clocks)"),
     Target("halfpoint_core",
            ("halfpoint_core", "halfpoint_arc", "halfpoint_line", "halfpoint_stepgen",
             "halfpoint_profile"),
