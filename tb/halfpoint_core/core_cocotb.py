@@ -227,8 +227,9 @@ async def interpolators_run_ahead(dut):
     async def watch():
         while True:
             await FallingEdge(dut.clk)
-            samples.append((bench.moves, int(dut.move_room.value), int(dut.produce.value),
-                            int(dut.move_valid.value)))
+            inner = bench.inner
+            samples.append((bench.moves, int(inner.move_room.value), int(inner.produce.value),
+                            int(inner.move_valid.value)))
 
     cocotb.start_soon(watch())
     await bench.send(prog)

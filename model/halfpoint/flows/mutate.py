@@ -105,11 +105,13 @@ TARGETS = {t.module: t for t in [
            why="as test_profile_rtl W16-DIV5; the test reads the registers in the "
                "wrapper's u_mutants, and runs long_segment (33,000 clocks)"),
     Target("halfpoint_core",
-           ("halfpoint_core", "halfpoint_arc", "halfpoint_line", "halfpoint_stepgen",
-            "halfpoint_profile"),
-           {"NA": 2, "W": 16, "DEPTH": 8, "TW": 16, "DIV": 4, "MOVE_DEPTH": 2,
-            "PROFILE_DEPTH": 1}, "core_cocotb", extra_env={"HP_SEED": 1},
-           why="as test_core_rtl NA2-W16-D8-DIV4"),
+           ("halfpoint_core", "halfpoint_arc", "halfpoint_line", "halfpoint_helix",
+            "halfpoint_stepgen", "halfpoint_profile", "halfpoint_outputs"),
+           {"NA": 2, "W": 16, "DEPTH": 8, "TW": 16, "DIV": 4, "MOVE_DEPTH": 2, "PWM_BITS": 6,
+            "PROFILE_DEPTH": 1}, "core_cocotb",
+           extra_env={"HP_SEED": 1, "HP_CORE_SCOPE": "u_mutants"},
+           why="as test_core_rtl NA2-W16-D8-DIV4; the bench reads the registered step "
+               "readiness and the head move in the wrapper's u_mutants"),
     Target("halfpoint_refloop", ("halfpoint_refloop",), {"WR": 34, "FOLD": 0},
            "refloop_cocotb", extra_env={"HP_SEED": 1}, why="as test_refloop_rtl fold 0"),
     Target("halfpoint_uart_cmd", ("halfpoint_uart_cmd",),

@@ -4,12 +4,16 @@ stream; a monitor compares every output (positions, STEP/DIR pins, status)
 with :class:`halfpoint.spec.core.CoreModel` on every clock and runs an independent
 timing checker on every axis's pins.
 
-Used inside a simulator only (it imports cocotb).
+Used inside a simulator only (it imports cocotb).  It also reads a few of the
+core's internal signals (the registered step readiness and the head move);
+HP_CORE_SCOPE names the instance that holds them when it is not the top, as
+in the mutation flow's wrapper (``u_mutants``).
 """
 
 from __future__ import annotations
 
 import itertools
+import os
 import random
 
 import cocotb
@@ -37,6 +41,9 @@ class CoreBench:
                  div: int = 12, move_depth: int = 4, profile_depth: int = 2,
                  pwm_bits: int = 10):
         self.dut = dut
+        # the instance holding the core's internal signals (see the docstring)
+        scope = os.environ.get("HP_CORE_SCOPE", "")
+        self.inner = getattr(dut, scope) if scope else dut
         self.axes, self.width, self.depth, self.tw = axes, width, depth, tw
         self.cfg = cfg or [StepCfg() for _ in range(axes)]
         self.model = CoreModel(axes, width, depth, tw, div, move_depth, profile_depth,
@@ -168,7 +175,7 @@ class CoreBench:
         """The core's registered readiness of the head move (computed a clock
         ahead from the generators' lookahead) equals the readiness of the head's
         axes as the generators report it now."""
-        d = self.dut
+        d = self.inner
         if not (d.head_step.value.is_resolvable and d.head_dir.value.is_resolvable):
             return      # a four-state simulator before the head was first loaded
         step, direction = int(d.head_step.value), int(d.head_dir.value)
