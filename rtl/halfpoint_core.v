@@ -1016,10 +1016,10 @@ module halfpoint_core #(
     //            one reason (a reject, a no-op, a profile loaded, handed to
     //            the arc unit or to the line unit, an OUTPUT loaded); the
     //            commands pop in the order they were pushed, each exactly once
-    //            and unchanged (the k-th beat pushed since the last flush is
-    //            the k-th popped, with its decoded entry: a free index
-    //            f_pick follows one beat through the queue), and only a flush
-    //            (abort_now or a stop at rest) drops any;
+    //            and unchanged (a beat chosen freely at its push, f_choose, is
+    //            followed through the queue: it pops exactly when the commands
+    //            ahead of it have popped, with the entry decoded from it), and
+    //            only a flush (abort_now or a stop at rest) drops any;
     //   steps    steps_ready_q, the registered readiness the pop reads, is on
     //            every clock the readiness of the head move's axes; so every
     //            step request is taken by its generator (none dropped), and
