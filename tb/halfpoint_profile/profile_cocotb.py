@@ -699,21 +699,13 @@ class Bench:
         context = f"{program.kind} program {sum(self.stim.programs.values())}"
         while True:
             inp = self.stim.inputs(self.model)
-            self.driver.drive(inp)
-            await ReadOnly()
-            got = self.monitor.view()
-            self.checker.credit(self.model, inp)
-            w = self.model.clock(inp)
-            self.checker.view(self.clock, got, model_view(w), w, context)
-            over = self.stim.advance(inp, w, self.model)
-            await FallingEdge(self.dut.clk)
-            self.clock += 1
-            await self.compare_registered(context, fresh=w.take)
-            if over:
+            w = await self.step(inp, context)
+            if self.stim.advance(inp, w, self.model):     # reads the model only
                 return
 
-    async def step(self, inp: ProfileInputs, context: str) -> None:
-        """One clock of the given inputs, compared as every other."""
+    async def step(self, inp: ProfileInputs, context: str):
+        """One clock of the given inputs, compared as every other; returns the
+        model's view of the clock."""
         self.driver.drive(inp)
         await ReadOnly()
         got = self.monitor.view()
@@ -723,6 +715,7 @@ class Bench:
         await FallingEdge(self.dut.clk)
         self.clock += 1
         await self.compare_registered(context, fresh=w.take)
+        return w
 
     async def idle(self, clocks: int) -> None:
         """Clocks with nothing queued: noise on the profile fields, random override."""
