@@ -12,7 +12,8 @@
 #                build/mutate/report.json; MODULES= limits it (default: every module)
 #   make soak    SEGMENTS random arcs and lines (default 10^6, SEED, SOAK_AXES = NA 2..6)
 #                through the compiled Verilator harness, checked move by move
-#                against the model (JOBS model workers)
+#                against the model (JOBS model workers); BATCHES=FIRST:END runs
+#                only those batches of 100 (a long soak in parts)
 #   make clean   remove build/ (keeps .venv/)
 
 PYTHON  ?= python3
@@ -63,7 +64,7 @@ mutate: setup
 
 soak: setup
 	$(VPY) -m halfpoint.flows.soak --segments $(SEGMENTS) --seed $(SEED) \
-		--axes $(SOAK_AXES) --jobs $(JOBS)
+		--axes $(SOAK_AXES) --jobs $(JOBS) $(if $(BATCHES),--batches $(BATCHES))
 
 boards: setup
 	$(VPY) -m halfpoint.flows.synth --boards-only --jobs $(JOBS)

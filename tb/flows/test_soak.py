@@ -66,3 +66,26 @@ def test_bad_holds_are_refused():
     with pytest.raises(ValueError, match="non-empty"):
         check_holds([(5, 5)])
     assert check_holds([(30, 40), (1, 2)]) == [(1, 2), (30, 40)]
+
+
+def test_parts_cover_the_whole_run(passed, capsys):
+    """Two parts (batches 0..2 and 3..5) check exactly the segments, moves and clocks
+    of the whole run; a range outside the run is refused."""
+    first = soak(segments=240, seed=SEED, axes=3, per_batch=40, jobs=1, chunk=3,
+                 build=BUILD, batches=(0, 3))
+    second = soak(segments=240, seed=SEED, axes=3, per_batch=40, jobs=1, chunk=3,
+                  build=BUILD, batches=(3, 6))
+    assert first.ok and second.ok
+    assert first.batches == second.batches == 3
+    for name in ("segments", "moves", "clocks"):
+        assert getattr(first, name) + getattr(second, name) == getattr(passed, name), name
+    assert first.classes + second.classes == passed.classes
+    out = io.StringIO()
+    report(second, SEED, 3, out)
+    assert "part of a run: batches 3 .. 5 of 0 .. 5" in out.getvalue()
+    with pytest.raises(ValueError, match="not a range of the 6 batches"):
+        soak(segments=240, seed=SEED, axes=3, per_batch=40, jobs=1, build=BUILD,
+             batches=(4, 7))
+    with pytest.raises(SystemExit):
+        main(["--segments", "240", "--batches", "2-4", "--build", BUILD])
+    assert "expected FIRST:END" in capsys.readouterr().err

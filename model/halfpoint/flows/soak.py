@@ -212,6 +212,9 @@ class SoakResult:
     failed_batch: int | None = None
     vectors: Path | None = None
     repro: str = ""
+    first_batch: int = 0            # the batches run: first .. end - 1 of total
+    end_batch: int = 0
+    total_batches: int = 0
 
 
 def repro_command(segments: int, seed: int, axes: int, per_batch: int, batch: int) -> str:
@@ -249,9 +252,13 @@ def _check_chunk(path: Path, chunk: list, proc: subprocess.Popen, res: SoakResul
 def soak(segments: int = 1_000_000, seed: int = 1, axes: int = 3, per_batch: int = 100,
          jobs: int = 2, chunk: int = 50, only_batch: int | None = None,
          corrupt: tuple[int, int] | None = None, out=None,
-         build: str = DEFAULT_BUILD) -> SoakResult:
+         build: str = DEFAULT_BUILD, batches: tuple[int, int] | None = None) -> SoakResult:
     """Run the soak; ``corrupt`` = (batch, move) alters that expected move (a check
-    that the checker fails)."""
+    that the checker fails).  ``batches`` = (first, end) runs only the batches
+    first .. end - 1 of the run's ceil(segments / per_batch): a long soak in parts,
+    each part exactly those batches of the whole run (each batch depends only on the
+    seed and its index), so parts that cover 0 .. N - 1 check what the whole run
+    checks."""
     t0 = time.monotonic()
     binary, _ = harness_binary(axes, build)
     work = BUILD / "soak" / f"na{axes}_seed{seed}"
@@ -259,11 +266,20 @@ def soak(segments: int = 1_000_000, seed: int = 1, axes: int = 3, per_batch: int
     nbatch = -(-segments // per_batch)
     if only_batch is not None and not 0 <= only_batch < nbatch:
         raise ValueError(f"batch {only_batch} is not one of the {nbatch} batches")
-    indices = [only_batch] if only_batch is not None else list(range(nbatch))
+    if batches is not None and not 0 <= batches[0] < batches[1] <= nbatch:
+        raise ValueError(f"batches {batches[0]}:{batches[1]} are not a range of the "
+                         f"{nbatch} batches (0:{nbatch})")
+    if only_batch is not None:
+        indices = [only_batch]
+    elif batches is not None:
+        indices = list(range(*batches))
+    else:
+        indices = list(range(nbatch))
     jobs_args = [(seed, i, axes, min(per_batch, segments - per_batch * i),
                   corrupt[1] if corrupt and corrupt[0] == i else None) for i in indices]
     total = sum(a[3] for a in jobs_args)
-    res = SoakResult(True)
+    res = SoakResult(True, first_batch=indices[0], end_batch=indices[-1] + 1,
+                     total_batches=nbatch)
     pending = None              # (path, chunk, Popen) the harness is checking
     model_s = 0.0
 
@@ -320,6 +336,9 @@ def report(res: SoakResult, seed: int, axes: int, out=None) -> None:
     cpu_rate = res.clocks / res.harness_cpu_seconds if res.harness_cpu_seconds else float("nan")
     print(f"soak passed: {res.segments} segments in {res.batches} batches, seed {seed}, "
           f"NA {axes}, W {HARNESS_W}", file=out)
+    if (res.first_batch, res.end_batch) != (0, res.total_batches):
+        print(f"  part of a run: batches {res.first_batch} .. {res.end_batch - 1} of "
+              f"0 .. {res.total_batches - 1}", file=out)
     print(f"  {res.moves} moves and {res.clocks} clocks checked; harness "
           f"{rate / 1e6:.2f} M clocks/s ({res.harness_seconds:.1f} s; "
           f"{cpu_rate / 1e6:.2f} M clocks per CPU second)", file=out)
@@ -348,6 +367,8 @@ def main(argv=None) -> int:
     ap.add_argument("--jobs", type=int, default=int(os.environ.get("JOBS", 2)))
     ap.add_argument("--chunk", type=int, default=50, help="batches per harness run")
     ap.add_argument("--only-batch", type=int, help="run only this batch (reproduce a failure)")
+    ap.add_argument("--batches", metavar="FIRST:END",
+                    help="run only batches FIRST .. END-1 of the run (a long soak in parts)")
     ap.add_argument("--build", choices=sorted(HARNESS_BUILDS), default=DEFAULT_BUILD,
                     help="the harness's build variant (flows.simspeed)")
     ap.add_argument("--corrupt", type=int, nargs=2, metavar=("BATCH", "MOVE"),
@@ -357,8 +378,21 @@ def main(argv=None) -> int:
         ap.error("--axes must be 2 .. 6 (arcs move X and Y)")
     if a.segments < 1 or a.per_batch < 1:
         ap.error("--segments and --per-batch must be positive")
-    res = soak(a.segments, a.seed, a.axes, a.per_batch, a.jobs, a.chunk, a.only_batch,
-               tuple(a.corrupt) if a.corrupt else None, out=sys.stdout, build=a.build)
+    batches = None
+    if a.batches is not None:
+        try:
+            first, end = (int(x) for x in a.batches.split(":"))
+        except ValueError:
+            ap.error(f"--batches {a.batches!r}: expected FIRST:END, two integers")
+        batches = (first, end)
+        if a.only_batch is not None:
+            ap.error("--batches and --only-batch exclude each other")
+    try:
+        res = soak(a.segments, a.seed, a.axes, a.per_batch, a.jobs, a.chunk, a.only_batch,
+                   tuple(a.corrupt) if a.corrupt else None, out=sys.stdout, build=a.build,
+                   batches=batches)
+    except ValueError as e:
+        ap.error(str(e))
     report(res, a.seed, a.axes)
     return 0 if res.ok else 1
 
