@@ -723,6 +723,9 @@ module halfpoint_arc #(
     //              that range is ASSUMED in the run stage (it follows from the
     //              circle, whose induction did not finish); F_SQUARER adds
     //              F = u^2 + v^2 - R^2 = x^2 + y^2 - R^2;
+    //   bound      (F_RUN_BOUND) the same bound under the assumed range: it
+    //              is linear in F, u, v and every move keeps it, so it closes
+    //              by k-induction without the circle;
     //   frame      the point (x, y) is (+-u, +-v) or (+-v, +-u) by quadrant and
     //              direction (README, "The algorithm in brief");
     //   steps      a move changes each axis by at most one BLU, step_x/step_y
@@ -740,6 +743,13 @@ module halfpoint_arc #(
     // invariants assumed) are kept for a faster solver.
 `ifdef F_SQUARER
 `define F_CIRCLE
+`endif
+    // F's bound on the registered output too, wherever it is asserted
+`ifdef F_RUN_CIRCLE
+`define F_OUT_BOUND
+`endif
+`ifdef F_RUN_BOUND
+`define F_OUT_BOUND
 `endif
     localparam integer F_PW = 2 * W + 4;                    // squares and their sums
     localparam [W-1:0] F_MAG_MAX = {1'b0, {(W-2){1'b1}}, 1'b0};     // M - 2
@@ -1011,6 +1021,13 @@ module halfpoint_arc #(
             // without F_RUN_CIRCLE the range of u and v, which follows from
             // the circle, is assumed (F_RUN_CIRCLE asserts it)
             f_uv_range: assume(u_q != {W{1'b0}} && u_q <= F_MAG_MAX && v_q <= F_MAG_MAX);
+`ifdef F_RUN_BOUND
+            // F's bound under the assumed range: linear in F, u, v, and kept
+            // by every move (the move rule's D1, D2 signs bound F' on both
+            // sides), so its induction needs no square
+            a_f_low:    assert($signed(f_fw) >= -$signed(f_uw + f_vw));
+            a_f_high:   assert($signed(f_fw) < $signed(f_uw + f_vw));
+`endif
 `else
             // F's bound and the range of u and v
             i_u_pos:    assert(u_q != {W{1'b0}});
@@ -1063,6 +1080,8 @@ module halfpoint_arc #(
 `ifdef F_SQUARER
                 a_out_circle: assert(f_fo == {4'b0000, f_x_sq} + {4'b0000, f_y_sq} - f_out_r2);
 `endif
+`endif
+`ifdef F_OUT_BOUND
                 a_out_low:    assert($signed(f_fo) >= -$signed(f_ax + f_ay));
                 a_out_high:   assert($signed(f_fo) < $signed(f_ax + f_ay));
 `endif

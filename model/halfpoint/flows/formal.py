@@ -144,6 +144,14 @@ MUTANTS = [
            "STATE_DECIDE: validator_state_q <= STATE_INIT;",
            ("bmc_w8",),
            "a rejected command still goes to the pending slot (and would run)"),
+    Mutant("arc_a_for_c", "halfpoint_arc", "rtl/halfpoint_arc.v",
+           "wire move_a   = d1_q[DATA_W-1] && !d2_q[DATA_W-1];\n"
+           "    wire move_c   = d1_q[DATA_W-1] && d2_q[DATA_W-1];",
+           "wire move_a   = d1_q[DATA_W-1] && d2_q[DATA_W-1];\n"
+           "    wire move_c   = d1_q[DATA_W-1] && !d2_q[DATA_W-1];",
+           ("band_w8",),
+           "the move rule's A and C swapped (every register updated consistently for the "
+           "move made: only F's bound sees the point leave the circle)"),
     Mutant("profile_cadence_early", "halfpoint_profile", "rtl/halfpoint_profile.v",
            "since_q     <= {DIV{1'b0}};", "since_q     <= SINCE_ONE;",
            ("bmc_div2",),
