@@ -206,13 +206,13 @@ module halfpoint_arc #(
     // terms of the frame set-up: 3v and 2(v - u) of the start point
     reg  [DATA_W-1:0]   init_v_times3_q, init_v_minus_u_twice_q;
 
-    // pending command, in run-stage form
+    // pending command, in run-stage form: D1 and the three increments of
+    // three terms (P3, G3, Q4); D2, Q1, Q2 and G1, each one carry chain from
+    // u or v, are computed by the load (see the run stage)
     reg  [1:0]        pend_quad_q, pend_end_quad_q;
     reg  [W-1:0]      pend_u_q, pend_v_q, pend_ue_q, pend_ve_q;
-    reg  [DATA_W-1:0] pend_d1_q, pend_d2_q;
-    // the six stored increments (see the run stage)
-    reg  [DATA_W-1:0] pend_d_add_a_q, pend_d2_add_b_q, pend_d2_add_c_q, pend_d2_add_b_cross_q;
-    reg  [DATA_W-1:0] pend_f_add_b_q, pend_f_add_a_q;
+    reg  [DATA_W-1:0] pend_d1_q;
+    reg  [DATA_W-1:0] pend_d_add_a_q, pend_d2_add_b_cross_q, pend_f_add_a_q;
     reg  [W-1:0]      pend_ue_plus1_q, pend_ue_minus1_q, pend_ve_minus1_q;
     reg  [W-1:0]      pend_ue_plus2_q, pend_ue_minus2_q, pend_ve_minus2_q;
     reg               pend_armed_q, pend_first_octant_q, pend_ve_zero_q;
@@ -249,7 +249,7 @@ module halfpoint_arc #(
 
     // The validator's work is spread so that each clock does at most one
     // add (of three operands, in SQUARE) or compare: the frame set-up of the
-    // pending slot runs in the first three squaring clocks (W >= 8 of them;
+    // pending slot runs in the first four squaring clocks (W >= 8 of them;
     // the pending slot is free then, as a command is taken only when the
     // previous one has left it), the squaring registers end as the sums of
     // squares (SUM is an idle clock, kept for the timing at the ports), and
@@ -257,6 +257,7 @@ module halfpoint_arc #(
     wire       prepare_frame = (validator_state_q == STATE_SQUARE) && (square_count_q == 6'd0);
     wire       prepare_terms = (validator_state_q == STATE_SQUARE) && (square_count_q == 6'd1);
     wire       prepare_sums  = (validator_state_q == STATE_SQUARE) && (square_count_q == 6'd2);
+    wire       prepare_d1    = (validator_state_q == STATE_SQUARE) && (square_count_q == 6'd3);
 
     // CHECK: a - b > t, as the sign of a + ~b + ~t + 1 = a - b - t - 1, with
     // the three operands reduced to two by a carry-save step (one LUT level
@@ -370,9 +371,6 @@ module halfpoint_arc #(
         end
         if (prepare_terms) begin
             // F = 0 at the start point
-            pend_d2_add_b_q       <= TWO_D - (init_u << 1);                 // Q1
-            pend_d2_add_c_q       <= (init_v << 1) + THREE_D;               // Q2
-            pend_f_add_b_q        <= ONE_D - (init_u << 1);                 // G1
             init_v_times3_q       <= init_v + (init_v << 1);
             init_v_minus_u_twice_q <= (init_v - init_u) << 1;
             pend_first_octant_q   <= init_first_octant;
@@ -393,8 +391,6 @@ module halfpoint_arc #(
             pend_v_eq_ue_q        <= (pend_v_q == pend_ue_q);
         end
         if (prepare_sums) begin
-            pend_d1_q             <= init_v + pend_f_add_b_q;               // F - 2u + v + 1
-            pend_d2_q             <= {1'b0, pend_v_q, 1'b1} - init_u;      // F - u + 2v + 1
             pend_d_add_a_q        <= init_v_minus_u_twice_q + FIVE_D;       // P3
             pend_f_add_a_q        <= init_v_minus_u_twice_q + TWO_D;        // G3
             pend_d2_add_b_cross_q <= ZERO_D - init_v_times3_q;              // Q4
@@ -404,6 +400,10 @@ module halfpoint_arc #(
             pend_v_plus1_eq_ve_q  <= !pend_ve_zero_q && (pend_v_q == pend_ve_minus1_q);
             pend_u_eq_ue_plus1_q  <= (pend_u_q == pend_ue_plus1_q);
             pend_v_plus1_eq_ue_q  <= (pend_v_q == pend_ue_minus1_q);
+        end
+        if (prepare_d1) begin
+            // D1 = F - 2u + v + 1 = G3 - v - 1 = G3 + ~v (F = 0)
+            pend_d1_q             <= pend_f_add_a_q + ~init_v;
         end
         if (validator_state_q == STATE_CHECK) begin
             radius_too_big_q <= ({1'b0, radius_square_q} > RADIUS_SQUARE_MAX);
@@ -566,6 +566,17 @@ module halfpoint_arc #(
     wire stop   = move_b ? stop_b : move_a ? stop_a : stop_c;
     wire last = advance && stop;
 
+    // The start point's D2 and the increments Q1, Q2, G1, each one carry
+    // chain from the pending u or v, are computed at the load rather than
+    // kept in the pending slot (F = 0 there; ~a = -a - 1 modulo 2^(W+2)):
+    //   D2 = 2v - u + 1 = {v, 1} + ~u + 1     Q1 = 2 - 2u = ~(2u) + 3
+    //   Q2 = 2v + 3                           G1 = 1 - 2u = ~(2u) + 2
+    wire [DATA_W-1:0] load_u_twice  = {1'b0, pend_u_q, 1'b0};
+    wire [DATA_W-1:0] load_d2       = {1'b0, pend_v_q, 1'b1} - {2'b00, pend_u_q};
+    wire [DATA_W-1:0] load_d2_add_b = ~load_u_twice + THREE_D;
+    wire [DATA_W-1:0] load_d2_add_c = {1'b0, pend_v_q, 1'b0} + THREE_D;
+    wire [DATA_W-1:0] load_f_add_b  = ~load_u_twice + TWO_D;
+
     assign load = hold_q && start_en && !abort_now && !run_q;     // only into an idle stage
 
     assign running = run_q;
@@ -617,13 +628,13 @@ module halfpoint_arc #(
             point_x_q        <= cmd_xs_q;
             point_y_q        <= cmd_ys_q;
             d1_q             <= pend_d1_q;
-            d2_q             <= pend_d2_q;
+            d2_q             <= load_d2;
             f_q              <= {DATA_W{1'b0}};
             d_add_a_q        <= pend_d_add_a_q;
-            d2_add_b_q       <= pend_d2_add_b_q;
-            d2_add_c_q       <= pend_d2_add_c_q;
+            d2_add_b_q       <= load_d2_add_b;
+            d2_add_c_q       <= load_d2_add_c;
             d2_add_b_cross_q <= pend_d2_add_b_cross_q;
-            f_add_b_q        <= pend_f_add_b_q;
+            f_add_b_q        <= load_f_add_b;
             f_add_a_q        <= pend_f_add_a_q;
         end else if (advance) begin
             quad_q           <= quad_n;
@@ -714,7 +725,8 @@ module halfpoint_arc #(
     //   increments every increment register equals its formula in u, v, F
     //              (README, "Pipeline"): D1 = F - 2u + v + 1, D2 = F - u + 2v
     //              + 1, P3 = -2u + 2v + 5, Q1 = -2u + 2, Q2 = 2v + 3, Q4 = -3v,
-    //              G1 = -2u + 1, G3 = -2u + 2v + 2, in the pending slot and at
+    //              G1 = -2u + 1, G3 = -2u + 2v + 2, in the pending slot or as
+    //              the load computes them, and at
     //              every move of the run stage;
     //   circle     (F_RUN_CIRCLE) the bound -(|x| + |y|) <= F < |x| + |y|
     //              (the point within about half a BLU of the circle) for the
@@ -743,6 +755,14 @@ module halfpoint_arc #(
     // invariants assumed) are kept for a faster solver.
 `ifdef F_SQUARER
 `define F_CIRCLE
+`endif
+    // F_INCREMENTS_ASSUMED (the task bound_w8): the run stage's increment
+    // invariants, which prove_w8 proves without the bound, are assumed, so
+    // that the bound's induction has only the bound to find
+`ifdef F_INCREMENTS_ASSUMED
+`define F_INC assume
+`else
+`define F_INC assert
 `endif
     // F's bound on the registered output too, wherever it is asserted
 `ifdef F_RUN_CIRCLE
@@ -854,6 +874,7 @@ module halfpoint_arc #(
     wire f_after0 = (validator_state_q > STATE_SQUARE) || (f_square && square_count_q >= 6'd1);
     wire f_after1 = (validator_state_q > STATE_SQUARE) || (f_square && square_count_q >= 6'd2);
     wire f_after2 = (validator_state_q > STATE_SQUARE) || (f_square && square_count_q >= 6'd3);
+    wire f_after3 = (validator_state_q > STATE_SQUARE) || (f_square && square_count_q >= 6'd4);
     always @(*)
         if (f_past_valid && !rst) begin
             a_ready_empty: assert(!s_ready || (!f_slot_valid && !abort_now));
@@ -964,17 +985,21 @@ module halfpoint_arc #(
                 a_pend_ok: assert(f_slot_err == 2'd0);
 `endif
             // the pending slot's increments (F = 0 at the start point)
+            if (f_after0) begin
+                // computed by the load from the pending u, v
+                i_l_d2:  assert(load_d2 == (f_pvd << 1) - f_pud + ONE_D);
+                i_l_q1:  assert(load_d2_add_b == TWO_D - (f_pud << 1));
+                i_l_q2:  assert(load_d2_add_c == (f_pvd << 1) + THREE_D);
+                i_l_g1:  assert(load_f_add_b == ONE_D - (f_pud << 1));
+            end
             if (f_after1) begin
-                i_p_q1:  assert(pend_d2_add_b_q == TWO_D - (f_pud << 1));
-                i_p_q2:  assert(pend_d2_add_c_q == (f_pvd << 1) + THREE_D);
-                i_p_g1:  assert(pend_f_add_b_q == ONE_D - (f_pud << 1));
                 i_p_v3:  assert(init_v_times3_q == f_pvd + (f_pvd << 1));
                 i_p_vu:  assert(init_v_minus_u_twice_q == (f_pvd - f_pud) << 1);
                 i_p_u1:  assert(pend_u_one_q == (f_pu == ONE_W));
             end
-            if (f_after2) begin
+            if (f_after3)
                 i_p_d1:  assert(pend_d1_q == f_pvd - (f_pud << 1) + ONE_D);
-                i_p_d2:  assert(pend_d2_q == (f_pvd << 1) - f_pud + ONE_D);
+            if (f_after2) begin
                 i_p_p3:  assert(pend_d_add_a_q == ((f_pvd - f_pud) << 1) + FIVE_D);
                 i_p_g3:  assert(pend_f_add_a_q == ((f_pvd - f_pud) << 1) + TWO_D);
                 i_p_q4:  assert(pend_d2_add_b_cross_q == ZERO_D - f_pvd - (f_pvd << 1));
@@ -1009,14 +1034,14 @@ module halfpoint_arc #(
             // D1 = F - 2u + v + 1 and D2 = F - u + 2v + 1 in the equivalent
             // form D2 - D1 = u + v, D2 - F = -u + 2v + 1 (the direct form's
             // induction did not finish in 10 minutes, this one does)
-            a_d1:       assert(d2_q - d1_q == f_ud + f_vd);
-            a_d2:       assert(d2_q - f_q == (f_vd << 1) + ONE_D - f_ud);
-            a_p3:       assert(d_add_a_q == ((f_vd - f_ud) << 1) + FIVE_D);
-            a_q1:       assert(d2_add_b_q == TWO_D - (f_ud << 1));
-            a_q2:       assert(d2_add_c_q == (f_vd << 1) + THREE_D);
-            a_q4:       assert(d2_add_b_cross_q == ZERO_D - f_vd - (f_vd << 1));
-            a_g1:       assert(f_add_b_q == ONE_D - (f_ud << 1));
-            a_g3:       assert(f_add_a_q == ((f_vd - f_ud) << 1) + TWO_D);
+            a_d1:       `F_INC(d2_q - d1_q == f_ud + f_vd);
+            a_d2:       `F_INC(d2_q - f_q == (f_vd << 1) + ONE_D - f_ud);
+            a_p3:       `F_INC(d_add_a_q == ((f_vd - f_ud) << 1) + FIVE_D);
+            a_q1:       `F_INC(d2_add_b_q == TWO_D - (f_ud << 1));
+            a_q2:       `F_INC(d2_add_c_q == (f_vd << 1) + THREE_D);
+            a_q4:       `F_INC(d2_add_b_cross_q == ZERO_D - f_vd - (f_vd << 1));
+            a_g1:       `F_INC(f_add_b_q == ONE_D - (f_ud << 1));
+            a_g3:       `F_INC(f_add_a_q == ((f_vd - f_ud) << 1) + TWO_D);
 `ifndef F_RUN_CIRCLE
             // without F_RUN_CIRCLE the range of u and v, which follows from
             // the circle, is assumed (F_RUN_CIRCLE asserts it)
