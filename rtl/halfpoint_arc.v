@@ -139,6 +139,7 @@ module halfpoint_arc #(
     localparam [DATA_W-1:0] SEVEN_D       = {{(DATA_W-4){1'b0}}, 4'd7};
     localparam [DATA_W-1:0] MINUS_THREE_D = ~TWO_D;
     localparam [W-1:0]      ONE_W         = {{(W-1){1'b0}}, 1'b1};
+    localparam [W-1:0]      TWO_W         = {{(W-2){1'b0}}, 2'd2};
     localparam integer SQUARE_LAST = W - 1;
     // validator states
     localparam [2:0] STATE_IDLE   = 3'd0;
@@ -208,13 +209,12 @@ module halfpoint_arc #(
 
     // pending command, in run-stage form: D1 and the three increments of
     // three terms (P3, G3, Q4); D2, Q1, Q2 and G1, each one carry chain from
-    // u or v, are computed by the load (see the run stage)
+    // u or v, are computed by the load (see the run stage), as are the end
+    // point's ue + 1, ue + 2, ue - 2 and ve - 2
     reg  [1:0]        pend_quad_q, pend_end_quad_q;
     reg  [W-1:0]      pend_u_q, pend_v_q, pend_ue_q, pend_ve_q;
     reg  [DATA_W-1:0] pend_d1_q;
     reg  [DATA_W-1:0] pend_d_add_a_q, pend_d2_add_b_cross_q, pend_f_add_a_q;
-    reg  [W-1:0]      pend_ue_plus1_q, pend_ue_minus1_q, pend_ve_minus1_q;
-    reg  [W-1:0]      pend_ue_plus2_q, pend_ue_minus2_q, pend_ve_minus2_q;
     reg               pend_armed_q, pend_first_octant_q, pend_ve_zero_q;
     reg               pend_ve_one_q, pend_ue_zero_q, pend_ue_one_q, pend_u_one_q;
     // the run stage's comparison flags for the start point (see the run stage)
@@ -375,9 +375,6 @@ module halfpoint_arc #(
             init_v_minus_u_twice_q <= (init_v - init_u) << 1;
             pend_first_octant_q   <= init_first_octant;
             pend_armed_q          <= !((pend_quad_q == pend_end_quad_q) && !init_before);
-            pend_ue_plus1_q       <= pend_ue_q + ONE_W;
-            pend_ue_minus1_q      <= pend_ue_q - ONE_W;
-            pend_ve_minus1_q      <= pend_ve_q - ONE_W;
             pend_ve_zero_q        <= (pend_ve_q == {W{1'b0}});
             pend_ve_one_q         <= (pend_ve_q == ONE_W);
             pend_ue_zero_q        <= (pend_ue_q == {W{1'b0}});
@@ -394,12 +391,11 @@ module halfpoint_arc #(
             pend_d_add_a_q        <= init_v_minus_u_twice_q + FIVE_D;       // P3
             pend_f_add_a_q        <= init_v_minus_u_twice_q + TWO_D;        // G3
             pend_d2_add_b_cross_q <= ZERO_D - init_v_times3_q;              // Q4
-            pend_ue_plus2_q       <= pend_ue_plus1_q + ONE_W;
-            pend_ue_minus2_q      <= pend_ue_minus1_q - ONE_W;
-            pend_ve_minus2_q      <= pend_ve_minus1_q - ONE_W;
-            pend_v_plus1_eq_ve_q  <= !pend_ve_zero_q && (pend_v_q == pend_ve_minus1_q);
-            pend_u_eq_ue_plus1_q  <= (pend_u_q == pend_ue_plus1_q);
-            pend_v_plus1_eq_ue_q  <= (pend_v_q == pend_ue_minus1_q);
+            // magnitudes are at most 2^(W-1): v + 1 and ue + 1 do not wrap
+            // (and v + 1 == ve implies ve != 0)
+            pend_v_plus1_eq_ve_q  <= (pend_v_q + ONE_W == pend_ve_q);
+            pend_u_eq_ue_plus1_q  <= (pend_u_q == pend_ue_q + ONE_W);
+            pend_v_plus1_eq_ue_q  <= (pend_v_q + ONE_W == pend_ue_q);
         end
         if (prepare_d1) begin
             // D1 = F - 2u + v + 1 = G3 - v - 1 = G3 + ~v (F = 0)
@@ -605,13 +601,13 @@ module halfpoint_arc #(
             end_quad_q       <= pend_end_quad_q;
             u_q              <= pend_u_q;
             v_q              <= pend_v_q;
-            ue_plus1_q       <= pend_ue_plus1_q;
+            ue_plus1_q       <= pend_ue_q + ONE_W;
             ve_zero_q        <= pend_ve_zero_q;
             first_octant_q   <= pend_first_octant_q;
             armed_q          <= pend_armed_q;
-            ue_plus2_q       <= pend_ue_plus2_q;
-            ue_minus2_q      <= pend_ue_minus2_q;
-            ve_minus2_q      <= pend_ve_minus2_q;
+            ue_plus2_q       <= pend_ue_q + TWO_W;
+            ue_minus2_q      <= pend_ue_q - TWO_W;
+            ve_minus2_q      <= pend_ve_q - TWO_W;
             ve_one_q         <= pend_ve_one_q;
             ue_zero_q        <= pend_ue_zero_q;
             ue_one_q         <= pend_ue_one_q;
