@@ -98,3 +98,9 @@ def test_core_mutants_come_from_its_own_file():
     assert len(mutate.foreign_mutations(core, drawn, out / "arc_cells")) == len(drawn)
     with pytest.raises(ValueError, match="not among its sources"):
         dataclasses.replace(core, mutate_sources=("halfpoint_uart_cmd",)).selection()
+
+
+def test_tests_option_needs_only():
+    """--tests (a subset of the tests) is for re-running survivors (--only) only."""
+    with pytest.raises(SystemExit):
+        mutate.main(["--tests", "decode_every_field_bit", "halfpoint_core"])

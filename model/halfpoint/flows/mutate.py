@@ -2,7 +2,8 @@
 """``make mutate``: mutation testing of the RTL with Yosys's ``mutate`` pass.
 
     python -m halfpoint.flows.mutate [--count N] [--seed S] [--sim SIM]
-                                     [--jobs J] [--only I,J..] [MODULE...]
+                                     [--jobs J] [--only I,J.. [--tests T,U..]]
+                                     [MODULE...]
 
 How (YosysHQ mcy's method, without mcy).  For each module:
 
@@ -46,6 +47,11 @@ the proven ones go to <out>/<module>/equivalent-proposed.toml, to be
 reviewed into the list.  (FAIL there: a counterexample exists, a test is
 missing; UNKNOWN: the induction did not close at that depth.)
 
+``--only`` runs some mutants (the survivors of a full run, on the tests as
+they are now); ``--tests`` with it runs only the tests named (those added
+since the full run: the survivors passed the others there, and the tests are
+deterministic).
+
 Results: build/mutate/report.json and a table (per module: mutants, killed,
 survived, equivalent, score = killed / (mutants - equivalent), seconds per
 mutant); survivors are listed with their source location.  Exit status 0
@@ -63,7 +69,7 @@ import shutil
 import subprocess
 import sys
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 try:
@@ -595,6 +601,10 @@ def main(argv=None) -> int:
     ap.add_argument("--jobs", type=int, default=1, help="mutants run at once (default 1)")
     ap.add_argument("--only", default="",
                     help="comma-separated mutant indices to run (default: all)")
+    ap.add_argument("--tests", default="",
+                    help="with --only: comma-separated names of the tests to run (default: "
+                         "the target's); for re-running the survivors of a full run on the "
+                         "tests added since, as they passed the others already")
     ap.add_argument("--out", type=Path, default=None,
                     help=f"work directory (default {OUT.relative_to(REPO)})")
     ap.add_argument("--list", action="store_true", help="list the mutations and exit")
@@ -614,6 +624,9 @@ def main(argv=None) -> int:
         ap.error(f"--only {args.only!r}: comma-separated integers expected")
     if any(not 1 <= k <= args.count for k in only):
         ap.error(f"--only: indices are 1..{args.count}")
+    tests = tuple(t.strip() for t in args.tests.split(",") if t.strip())
+    if tests and not only:
+        ap.error("--tests needs --only (a full run runs every test of the target)")
     out = OUT if args.out is None else args.out.resolve()
     entries = load_equivalent()
     modules = args.modules or list(TARGETS)
@@ -624,7 +637,10 @@ def main(argv=None) -> int:
         return 0
     reports = []
     for name in modules:
-        reports.append(run_module(TARGETS[name], args.count, args.seed, args.sim, args.jobs,
+        target = TARGETS[name]
+        if tests:
+            target = replace(target, testcases=tests)
+        reports.append(run_module(target, args.count, args.seed, args.sim, args.jobs,
                                   only or None, out, entries, prove_depth=args.prove))
         out.mkdir(parents=True, exist_ok=True)
         (out / "report.json").write_text(json.dumps(reports, indent=2) + "\n")
