@@ -477,6 +477,12 @@ def decode_cases():
                   (0, v, 0, v))]
         for slot in range(enc.helix_slots(NA)):
             cmds.append(enc.encode_arc(1, 0, -3, 0, 3, count=6, helix=[0] * slot + [v]))
+    # the derived arc fields alone out of the width (xs = -i, ys = -j, xe = x - i,
+    # ye = y - j), and alone at their limits
+    half = 1 << (W - 1)
+    for i, x in ((-half, 0), (-1, half - 1), (1, -half), (-half + 1, half - 1),
+                 (half - 1, -half + 1), (0, half - 1), (0, -half)):
+        cmds += [enc.encode_arc(0, i, 0, x, 0), enc.encode_arc(1, 0, i, 0, x)]
     # PROFILE rules, each broken alone, and each bit of d_exit beyond its width
     dw = W + enc.PROFILE_DISTANCE_EXTRA
     cmds += [enc.encode_profile(ONE // 8, 0, 0), enc.encode_profile(100, 101, 1),
