@@ -477,11 +477,12 @@ def decode_cases():
                   (0, v, 0, v))]
         for slot in range(enc.helix_slots(NA)):
             cmds.append(enc.encode_arc(1, 0, -3, 0, 3, count=6, helix=[0] * slot + [v]))
-    # the derived arc fields alone out of the width (xs = -i, ys = -j, xe = x - i,
-    # ye = y - j), and alone at their limits
+    # each arc field alone out of the width (i, x and the derived xs = -i, xe = x -
+    # i; j, y, ys, ye the same), and alone at its limits
     half = 1 << (W - 1)
-    for i, x in ((-half, 0), (-1, half - 1), (1, -half), (-half + 1, half - 1),
-                 (half - 1, -half + 1), (0, half - 1), (0, -half)):
+    for i, x in ((half, 0), (1, half), (-1, -half - 1), (-half, 0), (-1, half - 1),
+                 (1, -half), (-half + 1, half - 1), (half - 1, -half + 1), (0, half - 1),
+                 (0, -half)):
         cmds += [enc.encode_arc(0, i, 0, x, 0), enc.encode_arc(1, 0, i, 0, x)]
     # PROFILE rules, each broken alone, and each bit of d_exit beyond its width
     dw = W + enc.PROFILE_DISTANCE_EXTRA
