@@ -26,6 +26,8 @@ SEED = int(os.environ.get("HP_SEED", "1"))
 # the long variants (the mutation flow's core target sets it): profile_distance_bits
 # until every bit of both profile distances has decided a crossing
 LONG = os.environ.get("HP_CORE_LONG", "0") == "1"
+# far_distance (a segment of 65,000 clocks, about a minute): run only when set
+FAR = os.environ.get("HP_CORE_FAR", "0") == "1"
 ONE = 1 << 32               # a speed field of 1 BLU per clock
 
 
@@ -510,13 +512,17 @@ def decode_cases():
 async def decode_every_field_bit(dut):
     """Every decode check reached bit by bit (``decode_cases``): rejects with their
     codes, the accepted commands run, every clock compared with the model; then a
-    short program runs under the last good profile."""
+    short program with the arc unit's rejects."""
     bind(dut)
     bench = new_bench(dut, seed=SEED + 9)
     await bench.start()
     rng = random.Random(SEED + 9)
     cmds = decode_cases()
-    runs = plan(rng, [enc.encode_line([2] + [0] * (NA - 1)), enc.encode_arc(1, 0, -3, 0, 3)])
+    # a line; an arc ending off its circle (E_ARC_END) and one whose circle leaves
+    # the width (E_ARC_RANGE), the arc unit's rejects
+    far = 3 << (W - 3)
+    runs = plan(rng, [enc.encode_line([2] + [0] * (NA - 1)), enc.encode_arc(1, 0, -3, 0, 3),
+                      enc.encode_arc(1, -far, -far, 0, 0)])
     await bench.send(cmds + runs)
     await bench.drain()
     check_end(bench, cmds + runs)
@@ -800,3 +806,28 @@ async def arc_count_bits(dut):
     # a count of 0 is no count (not checked)
     flipped = sum(1 for k in range(32) if count ^ (1 << k))
     assert [c for _, c in bench.errors] == [enc.E_HELIX_COUNT] * flipped
+
+
+@cocotb.test(skip=not FAR)
+async def far_distance(dut):
+    """A distance beyond 2^32 (BLU x 2^16) crossed: one line whose iterations cost
+    the largest line cost (4 BLU), at the largest cruise speed (1 BLU per clock), with
+    d_stop = 2^32 and d_exit 4 BLU beyond it (bit 18 set): its exit staircase starts
+    4 BLU after 2^32, about 65,600 clocks into the segment (E gains at most 2^16 a
+    clock), and each bit of both distances up there is carried to the stage.  The
+    exit speed 0 keeps the queue from being dry.  Every clock compared with the
+    model.  Only with HP_CORE_FAR=1 (about a minute at W 16); W <= 20 (a line of
+    16,400 iterations)."""
+    bind(dut)
+    assert W <= 20, "far_distance needs a line of 16,400 iterations: W <= 20"
+    bench = new_bench(dut, cfg=[StepCfg(1, 0, 0, 0)] * NA, seed=SEED + 15)
+    await bench.start()
+    cost = (1 << 18) - 1
+    d_stop = 1 << 32
+    d_exit = d_stop + (1 << 18)
+    iterations = -(-d_exit // cost) + 8
+    prog = [enc.encode_profile((1 << 32) - 1, 0, (1 << 34) - 1, cost, d_exit, d_stop),
+            enc.encode_line([iterations] + [0] * (NA - 1))]
+    await bench.send(prog)
+    await bench.drain()
+    check_end(bench, prog)
