@@ -485,7 +485,8 @@ def decode_cases():
     for i, x in ((half, 0), (1, half), (-1, -half - 1), (-half, 0), (-1, half - 1),
                  (1, -half), (-half + 1, half - 1), (half - 1, -half + 1), (0, half - 1),
                  (0, -half)):
-        cmds += [enc.encode_arc(0, i, 0, x, 0), enc.encode_arc(1, 0, i, 0, x)]
+        if max(i, x) < 1 << 31 and min(i, x) >= -(1 << 31):     # a 32-bit field
+            cmds += [enc.encode_arc(0, i, 0, x, 0), enc.encode_arc(1, 0, i, 0, x)]
     # PROFILE rules, each broken alone, and each bit of d_exit beyond its width
     dw = W + enc.PROFILE_DISTANCE_EXTRA
     cmds += [enc.encode_profile(ONE // 8, 0, 0), enc.encode_profile(100, 101, 1),
