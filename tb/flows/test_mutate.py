@@ -75,3 +75,32 @@ def test_known_bad_killed_and_equivalent_survives():
     assert list(known) == [entry["mutation"]]
     assert report["killed"] == 1 and report["survived"] == 1
     assert 0 < report["seconds_per_mutant"]
+
+
+def test_core_mutants_come_from_its_own_file():
+    """The core target draws its mutants only from the cells of halfpoint_core.v
+    (the units have their own targets), on the whole flattened netlist; a list
+    drawn from another file is refused as foreign (the gen step alone)."""
+    core = mutate.TARGETS["halfpoint_core"]
+    assert core.mutate_sources == ("halfpoint_core",)
+    out = BUILD / "test_mutate" / "core_sources"
+    mutations = mutate.generate(core, mutate.DEFAULT_COUNT, 1, out / core.module)
+    assert len(mutations) == mutate.DEFAULT_COUNT
+    cells = mutate.cell_sources(out / core.module, core.module)
+    assert any(files[0] != "rtl/halfpoint_core.v" for files in cells.values()), \
+        "the netlist should hold the units' cells too"
+    for m in mutations:
+        assert cells[m.option("cell")][0] == "rtl/halfpoint_core.v", m.command
+        assert "-src rtl/halfpoint_core.v:" in m.command, m.command
+    arc = dataclasses.replace(core, mutate_sources=("halfpoint_arc",))
+    drawn = mutate.generate(arc, 20, 1, out / "arc_cells")
+    assert all(cells[m.option("cell")][0] == "rtl/halfpoint_arc.v" for m in drawn)
+    assert len(mutate.foreign_mutations(core, drawn, out / "arc_cells")) == len(drawn)
+    with pytest.raises(ValueError, match="not among its sources"):
+        dataclasses.replace(core, mutate_sources=("halfpoint_uart_cmd",)).selection()
+
+
+def test_tests_option_needs_only():
+    """--tests (a subset of the tests) is for re-running survivors (--only) only."""
+    with pytest.raises(SystemExit):
+        mutate.main(["--tests", "decode_every_field_bit", "halfpoint_core"])

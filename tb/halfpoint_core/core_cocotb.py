@@ -4,6 +4,7 @@ STEP/DIR pins, status), independent pin timing checks, and end results."""
 
 from __future__ import annotations
 
+import copy
 import os
 import random
 
@@ -11,15 +12,22 @@ import cocotb
 from cocotb.triggers import FallingEdge
 
 from halfpoint.spec import encoding as enc
+from halfpoint.spec import profile as pf
+from halfpoint.spec.core import CoreInputs, decode_for_core
 from halfpoint.sim.corebench import CoreBench
 from halfpoint.sim.design import read_parameters
 from halfpoint.spec.rules import wrap
-from halfpoint.spec.program import (expect, move_count, profiled, random_arc,
+from halfpoint.spec.program import (expect, line_cost, move_count, profiled, random_arc,
                                     random_helix, random_line)
 from halfpoint.spec.stepgen import StepCfg
 
 NA = W = DEPTH = TW = DIV = MOVE_DEPTH = PROFILE_DEPTH = PWM_BITS = 0   # bind() reads them
 SEED = int(os.environ.get("HP_SEED", "1"))
+# the long variants (the mutation flow's core target sets it): profile_distance_bits
+# until every bit of both profile distances has decided a crossing
+LONG = os.environ.get("HP_CORE_LONG", "0") == "1"
+# far_distance (a segment of 65,000 clocks, about a minute): run only when set
+FAR = os.environ.get("HP_CORE_FAR", "0") == "1"
 ONE = 1 << 32               # a speed field of 1 BLU per clock
 
 
@@ -443,3 +451,384 @@ async def outputs_in_program_order(dut):
     for _ in range(20):
         await FallingEdge(dut.clk)
     assert bench.output_pins[-1][1:6] == (0, 0, 0, 0, 0)
+
+
+def decode_cases():
+    """Commands that reach every decode check bit by bit (for the core's own
+    mutants): each reserved bit of each opcode alone, each bit of the deltas of
+    the axes and helix slots this core lacks, each bit of a field's top beyond
+    the width (both signs), each PROFILE rule broken alone, and the OUTPUT power
+    around 100 %; valid commands between them keep the dispatcher moving."""
+    bases = [enc.encode_line([1] + [0] * (NA - 1)), enc.encode_arc(1, 0, -3, 0, 0),
+             enc.encode_profile(ONE // 8, 0, 1 << 30), enc.encode_output(100, 1)]
+    cmds = [enc.pack([op, 0, 1, 2, 3, 4, 5, 6]) for op in (0, 6, 7, 8, 12, 15)]
+    # every bit whose flip alone is a reserved bit set (E_OPCODE) in the model: the
+    # reserved bits of each opcode, the deltas of the axes and helix slots the core
+    # lacks, the opcodes that do not exist
+    for base in bases:
+        cmds += [base ^ (1 << b) for b in range(enc.CMD_BITS)
+                 if decode_for_core(base ^ (1 << b), NA, W) == ("err", enc.E_OPCODE)]
+    # each bit of the top (bits W-1 and up) of a field, alone and cleared in -1
+    tops = [enc._s32(1 << b) for b in range(W - 1, 32)] + \
+           [enc._s32(((1 << 32) - 1) ^ (1 << b)) for b in range(W - 1, 32)]
+    for v in tops:
+        for axis in range(NA):
+            cmds.append(enc.encode_line([0] * axis + [v] + [0] * (NA - 1 - axis)))
+        cmds += [enc.encode_arc(0, *ijxy) for ijxy in
+                 ((v, 0, 0, 0), (0, v, 0, 0), (0, 0, v, 0), (0, 0, 0, v), (v, 0, v, 0),
+                  (0, v, 0, v))]
+        for slot in range(enc.helix_slots(NA)):
+            cmds.append(enc.encode_arc(1, 0, -3, 0, 3, count=6, helix=[0] * slot + [v]))
+    # each arc field alone out of the width (i, x and the derived xs = -i, xe = x -
+    # i; j, y, ys, ye the same), and alone at its limits
+    half = 1 << (W - 1)
+    for i, x in ((half, 0), (1, half), (-1, -half - 1), (-half, 0), (-1, half - 1),
+                 (1, -half), (-half + 1, half - 1), (half - 1, -half + 1), (0, half - 1),
+                 (0, -half)):
+        if max(i, x) < 1 << 31 and min(i, x) >= -(1 << 31):     # a 32-bit field
+            cmds += [enc.encode_arc(0, i, 0, x, 0), enc.encode_arc(1, 0, i, 0, x)]
+    # PROFILE rules, each broken alone, and each bit of d_exit beyond its width
+    dw = W + enc.PROFILE_DISTANCE_EXTRA
+    cmds += [enc.encode_profile(ONE // 8, 0, 0), enc.encode_profile(100, 101, 1),
+             enc.encode_profile(ONE // 8, 0, 1, 0, 5, 6),
+             enc.encode_profile(ONE // 8, 0, 1, 0, (1 << dw) - 1, (1 << dw) - 1)]
+    for b in range(dw, 54):
+        cmds.append(enc.encode_profile(ONE // 8, 0, 1, 0, 1 << b, 0))
+        cmds.append(enc.encode_profile(ONE // 8, 0, 1, 0, 1, 1 << b))
+    for b in range(34):
+        cmds.append(enc.encode_profile(ONE // 8, 0, 1 << b))
+    for b in range(32):
+        cmds.append(enc.encode_profile((1 << b) - 1, 1 << b, 1))
+        cmds.append(enc.encode_profile(1 << b, 1 << b, 1))
+    for b in range(min(dw, 54)):
+        cmds.append(enc.encode_profile(ONE // 8, 0, 1, 0, (1 << b) - 1, 1 << b))
+        cmds.append(enc.encode_profile(ONE // 8, 0, 1, 0, 1 << b, 1 << b))
+    full = enc.OUTPUT_POWER_FULL
+    cmds += [enc.encode_output(p, 1) for p in (full, full + 1, full - 1)]
+    cmds += [enc.encode_output(full | (1 << b), 1) for b in range(16)]
+    return cmds
+
+
+@cocotb.test()
+async def decode_every_field_bit(dut):
+    """Every decode check reached bit by bit (``decode_cases``): rejects with their
+    codes, the accepted commands run, every clock compared with the model; then a
+    short program with the arc unit's rejects."""
+    bind(dut)
+    bench = new_bench(dut, seed=SEED + 9)
+    await bench.start()
+    rng = random.Random(SEED + 9)
+    cmds = decode_cases()
+    # a line; an arc ending off its circle (E_ARC_END) and one whose circle leaves
+    # the width (E_ARC_RANGE), the arc unit's rejects
+    far = 3 << (W - 3)
+    runs = plan(rng, [enc.encode_line([2] + [0] * (NA - 1)), enc.encode_arc(1, 0, -3, 0, 3),
+                      enc.encode_arc(1, -far, -far, 0, 0)])
+    await bench.send(cmds + runs)
+    await bench.drain()
+    check_end(bench, cmds + runs)
+    dut._log.info("decode: %d commands, %d clocks, %d rejects", len(cmds), bench.cycle,
+                  len(bench.errors))
+
+
+def simulate(model, cmds, override, clocks, reference=None, accel_field=None):
+    """A copy of ``model`` fed ``cmds`` back to back for ``clocks`` clocks (or until
+    it is idle): (speed, dry) per clock, and the stage's earned distance E in the
+    segment whose profile has ``accel_field`` (None on other clocks).  With a
+    ``reference`` trace: whether the trace differs from it (stopping at the first
+    difference)."""
+    m = copy.deepcopy(model)
+    trace, distances, idx, idle = [], [], 0, 0
+    while idle < 4 and len(trace) < clocks:
+        o = m.outputs()
+        st = m.stage
+        trace.append((o.speed, o.dry))
+        if reference is not None and (len(trace) > len(reference)
+                                      or trace[-1] != reference[len(trace) - 1]):
+            return True
+        current = st.cur is not None and st.cur.accel == accel_field
+        distances.append(st.s + (st.credit >> pf.COST_SHIFT) if current else None)
+        feed = idx < len(cmds)
+        m.clock(CoreInputs(tvalid=int(feed), tdata=cmds[idx] if feed else 0,
+                           override=override))
+        idx += int(feed and o.tready)
+        idle = 0 if (o.busy or idx < len(cmds)) else idle + 1
+    if reference is not None:
+        return len(trace) != len(reference)
+    return trace, distances
+
+
+class DistanceCases:
+    """Segments whose earned distance E crosses a profile distance (``field``:
+    d_exit or d_stop) exactly, so that each bit of the distance, set or clear,
+    decides the clock of the crossing: d = E(n-1) + 1 (clearing any set bit moves
+    the crossing earlier; setting a clear bit at or above the clock's gain moves it
+    later) or d = E(n) (setting any clear bit moves it later).  Each bit's flip is
+    checked on a copy of the bench's model to change the speed or dry trace; the
+    bits a segment cannot reach (2^k beyond its distances) get d = 2^k, one
+    short segment each, never crossed, and crossed at once with the bit cleared
+    (``LONG`` only).  d_exit cases set d_stop = d_exit (a later exit
+    crossing is a dry one); d_stop cases have d_exit at its largest and a nonzero
+    exit speed, the queue dry behind them.
+
+    Each case is a chain: a short line A, the segment B under test, and a PROFILE
+    C whose fields are B's inverted (B's distance among them), loaded as the
+    profile in force while B's profile still waits in the profile queue for A's
+    end: the queue must hand B's profile over as it was written."""
+
+    def __init__(self, field, rng):
+        self.field, self.rng = field, rng
+        self.bits = W + enc.PROFILE_DISTANCE_EXTRA
+        self.top = (1 << self.bits) - 1
+        self.needed = {(kind, k) for kind in ("set", "clear") for k in range(self.bits)}
+        self.reach = self.bits
+
+    def distances(self, d):
+        return (d, d) if self.field == "d_exit" else (self.top, d)
+
+    def segment(self, params, d):
+        (v_cruise, v_exit, accel_field, deltas), (a_cruise, a_accel, a_deltas) = params
+        inverted = self.distances(~d & self.top)
+        if self.field == "d_exit":
+            inverted = (inverted[0], inverted[0])
+        cruise_c = ~v_cruise & 0xFFFFFFFF
+        pad = [0] * (NA - 2)
+        tested = [enc.encode_profile(v_cruise, v_exit, accel_field, line_cost(deltas),
+                                     *self.distances(d)),
+                  enc.encode_line(list(deltas) + pad)]
+        if a_deltas is None:
+            return tested
+        return [enc.encode_profile(a_cruise, a_cruise, a_accel, line_cost(a_deltas),
+                                   self.top, self.top),
+                enc.encode_line(list(a_deltas) + pad)] + tested + \
+            [enc.encode_profile(cruise_c, ~v_exit & cruise_c, ~accel_field & ((1 << 34) - 1),
+                                ~line_cost(deltas) & ((1 << 18) - 1), *inverted)]
+
+    def params(self, length=30, chain=True):
+        rng = self.rng
+        v_cruise = speed(rng, 0.3, 0.45)
+        deltas = (rng.randint(length, length + 10) * rng.choice((1, -1)),
+                  rng.randint(-length // 2, length // 2))
+        return ((v_cruise, rng.randint(v_cruise // 4, v_cruise // 2),
+                 rng.randint(1 << 33, (1 << 34) - 1), deltas),
+                (speed(rng, 0.05, 0.1), rng.randint(1 << 31, (1 << 32) - 1),
+                 (rng.randint(4, 8), rng.randint(-3, 3)) if chain else None))
+
+    def differs(self, model, params, d, k, reference, clocks):
+        return simulate(model, self.segment(params, d ^ (1 << k)), 128, clocks + 1, reference,
+                        params[0][2])
+
+    def next(self, model):
+        """The next case for the bench's model in its present (idle) state, or
+        None when every bit is covered."""
+        params = self.params()
+        accel_b = params[0][2]
+        _, distances = simulate(model, self.segment(params, self.top), 128, 20_000, None,
+                                accel_b)
+        during = [n for n, e in enumerate(distances) if e is not None]
+        # a set bit within the middle of the segment's distances
+        reach = distances[during[-1]].bit_length() - 2
+        self.reach = min(self.reach, reach)
+        want = {(kind, k) for kind, k in self.needed if k < reach or kind == "clear"}
+        if not want:
+            if not self.needed or not LONG:
+                return None
+            # a bit beyond the segment: d = 2^k is never reached, d = 0 at once
+            k = min(k for _, k in self.needed)
+            d = 1 << k
+            kinds = {"set"}
+            params = self.params(length=16, chain=False)
+        else:
+            steps = [n for n in during[len(during) // 4:3 * len(during) // 4]
+                     if distances[n - 1] is not None and distances[n] > distances[n - 1]]
+
+            def covers(d, gain):
+                return sum(1 for kind, k in want if (d >> k & 1) == (kind == "set")
+                           and (kind == "set" or d == gain[1] or (1 << k) >= gain[1] - gain[0]))
+
+            candidates = [(distances[n - 1] + 1, (distances[n - 1], distances[n]))
+                          for n in steps] + [(distances[n], (distances[n - 1], distances[n]))
+                                             for n in steps]
+            d = max(self.rng.sample(candidates, min(40, len(candidates))),
+                    key=lambda c: covers(*c))[0]
+            kinds = {"set", "clear"}
+        reference, _ = simulate(model, self.segment(params, d), 128, 20_000)
+        clocks = len(reference)
+        for kind, k in sorted(self.needed):
+            if kind in kinds and (d >> k & 1) == (kind == "set") and \
+                    self.differs(model, params, d, k, reference, clocks):
+                self.needed.discard((kind, k))
+        return self.segment(params, d)
+
+
+@cocotb.test()
+async def profile_distance_bits(dut):
+    """Every bit of d_exit and d_stop decides a crossing (``DistanceCases``): the
+    distances pass the queue, the profile register and the profile queue bit for
+    bit; every clock compared with the model.  Without HP_CORE_LONG two cases
+    per distance (the bits they happen to decide); with it, cases until every bit
+    of both distances, set and clear, has decided one (about 50 segments at W 16),
+    which the test asserts."""
+    bind(dut)
+    rng = random.Random(SEED + 10)
+    bench = new_bench(dut, cfg=[StepCfg(1, 0, 0, 0)] * NA, seed=SEED + 10)
+    await bench.start()
+    segments = 0
+    for field in ("d_exit", "d_stop"):
+        cases = DistanceCases(field, rng)
+        for _ in range(80 if LONG else 2):
+            for _ in range((1 << DIV) + 8):       # the stage's step cadence settles
+                await FallingEdge(dut.clk)
+            case = cases.next(bench.model)
+            if case is None:
+                break
+            await bench.send(case)
+            await bench.drain()
+            segments += 1
+        if LONG:
+            assert not cases.needed, f"{field}: bits no case decided: {sorted(cases.needed)}"
+    dut._log.info("profile distances: %d cases, %d clocks", segments, bench.cycle)
+
+
+@cocotb.test()
+async def output_meets_stop(dut):
+    """An OUTPUT reaching the head of an idle core in the clock the registered stop
+    rises does not load (that clock is a stop at rest; the flush after it drops the
+    OUTPUT); stop is raised at several offsets around the beat, with the settings
+    changing each time; every clock compared with the model, and the case is
+    checked to have happened."""
+    bind(dut)
+    bench = new_bench(dut, seed=SEED + 11)
+    await bench.start()
+    full = enc.OUTPUT_POWER_FULL
+    met = 0
+    for offset in range(-3, 3):
+        await bench.send([enc.encode_output(full // 4, 1, 0, 0, 0, 1, 0)])
+        await bench.drain()
+        t = bench.cycle
+        bench.stop_schedule = set(range(t + offset + 2, t + offset + 8))
+        await bench.send([enc.encode_output(full // 2, 1, 1, 0, 0, 0, 1)])
+        for _ in range(16):
+            await FallingEdge(dut.clk)
+            m = bench.model
+            head = m.queue and enc.decode(m.queue[0])["opcode"] == enc.OP_OUTPUT
+            met += int(bool(head and m.stop_pin and m.inflight is None
+                            and m.downstream_idle()))
+        await bench.source.wait()
+        await bench.drain()
+    assert met, "no OUTPUT met the registered stop at the head"
+
+
+@cocotb.test()
+async def cont_waits_at_head(dut):
+    """A CONT line that waits at the queue head (the line before it in flight) keeps
+    its CONT: with nothing behind it, its end is an underrun.  Every clock compared
+    with the model."""
+    bind(dut)
+    rng = random.Random(SEED + 12)
+    bench = new_bench(dut, seed=SEED + 12)
+    await bench.start()
+    first = enc.encode_line([40, 13] + [0] * (NA - 2), cont=True)
+    prog = profiled([first], NA, W, DIV, v_cruise=ONE // 4, accel=1 << 31, junction=ONE // 4)
+    # the second line under the same profile: at the head while the first is in flight
+    prog.append(enc.encode_line([-9, 4] + [0] * (NA - 2), cont=True))
+    changes = []
+
+    async def watch():
+        while True:
+            await FallingEdge(dut.clk)
+            changes.append((bench.moves, bench.last["underrun"]))
+
+    cocotb.start_soon(watch())
+    await bench.send(prog)
+    await bench.drain()
+    check_end(bench, prog)
+    first_moves = len(expect(prog[:2], NA, W)[0])
+    assert all(u == 0 for moves, u in changes if moves <= first_moves), \
+        "the first segment underran: the second is not the one tested"
+    assert bench.last["underrun"] == 1, "the last CONT segment ended without an underrun"
+
+
+@cocotb.test()
+async def profile_speeds_reached(dut):
+    """Segments under profiles with random bits in every field whose speed reaches
+    the cruise speed and then, from a d_exit early in the segment, the exit speed,
+    and stays there: each speed field's bits, the speed steps (accel) and the line
+    cost appear on the speed register and the move timing, passed through the queue,
+    the profile register and the profile queue.  Every clock compared with the
+    model; the test checks both plateaus were reached."""
+    bind(dut)
+    rng = random.Random(SEED + 13)
+    bench = new_bench(dut, cfg=[StepCfg(1, 0, 0, 0)] * NA, seed=SEED + 13)
+    await bench.start()
+    top = (1 << (W + enc.PROFILE_DISTANCE_EXTRA)) - 1
+    for _ in range(4):
+        for _ in range((1 << DIV) + 8):
+            await FallingEdge(dut.clk)
+        v_cruise = rng.randint(ONE // 4, ONE // 2)
+        v_exit = rng.randint(ONE // 16, ONE // 5)
+        accel_field = rng.randint(1 << 33, (1 << 34) - 1)
+        deltas = [rng.randint(70, 80) * rng.choice((1, -1)), rng.randint(-30, 30)] + \
+            [0] * (NA - 2)
+
+        def segment(d):
+            return [enc.encode_profile(v_cruise, v_exit, accel_field, line_cost(deltas), d, d),
+                    enc.encode_line(deltas)]
+
+        trace, distances = simulate(bench.model, segment(top), 128, 20_000, None, accel_field)
+        # d_exit: the distance two ticks after the cruise speed is reached
+        cruise = next(n for n, (v, _) in enumerate(trace) if v == v_cruise << pf.SPEED_SHIFT)
+        start = len(bench.speeds)
+        await bench.send(segment(distances[cruise + (2 << DIV)]))
+        await bench.drain()
+        seen = set(bench.speeds[start:])
+        assert {v_cruise << pf.SPEED_SHIFT, v_exit << pf.SPEED_SHIFT} <= seen, \
+            "a plateau was not reached"
+
+
+@cocotb.test()
+async def arc_count_bits(dut):
+    """A quarter arc with its exact move count, and with each bit of the count
+    flipped in turn (E_HELIX_COUNT at its last move, the arc run in full; a count
+    flipped to 0 is no count): every bit
+    of the count the queue carries to the helix mapper decides the error.  Every
+    clock compared with the model."""
+    bind(dut)
+    bench = new_bench(dut, cfg=[StepCfg(1, 0, 0, 0)] * NA, seed=SEED + 14)
+    await bench.start()
+    arc = enc.encode_arc(1, 0, -3, 3, -3)
+    count = move_count(arc, NA, W)
+    arcs = [enc.encode_arc(1, 0, -3, 3, -3, count=count ^ (1 << k)) for k in range(32)]
+    prog = profiled([enc.encode_arc(1, 0, -3, 3, -3, count=count)] + arcs, NA, W, DIV,
+                    v_cruise=ONE // 2 - 1, accel=(1 << 34) - 1, junction=ONE // 2 - 1)
+    await bench.send(prog)
+    await bench.drain()
+    check_end(bench, prog)
+    # a count of 0 is no count (not checked)
+    flipped = sum(1 for k in range(32) if count ^ (1 << k))
+    assert [c for _, c in bench.errors] == [enc.E_HELIX_COUNT] * flipped
+
+
+@cocotb.test(skip=not FAR)
+async def far_distance(dut):
+    """A distance beyond 2^32 (BLU x 2^16) crossed: one line whose iterations cost
+    the largest line cost (4 BLU), at the largest cruise speed (1 BLU per clock), with
+    d_stop = 2^32 and d_exit 4 BLU beyond it (bit 18 set): its exit staircase starts
+    4 BLU after 2^32, about 65,600 clocks into the segment (E gains at most 2^16 a
+    clock), and each bit of both distances up there is carried to the stage.  The
+    exit speed 0 keeps the queue from being dry.  Every clock compared with the
+    model.  Only with HP_CORE_FAR=1 (about a minute at W 16); W <= 20 (a line of
+    16,400 iterations)."""
+    bind(dut)
+    assert W <= 20, "far_distance needs a line of 16,400 iterations: W <= 20"
+    bench = new_bench(dut, cfg=[StepCfg(1, 0, 0, 0)] * NA, seed=SEED + 15)
+    await bench.start()
+    cost = (1 << 18) - 1
+    d_stop = 1 << 32
+    d_exit = d_stop + (1 << 18)
+    iterations = -(-d_exit // cost) + 8
+    prog = [enc.encode_profile((1 << 32) - 1, 0, (1 << 34) - 1, cost, d_exit, d_stop),
+            enc.encode_line([iterations] + [0] * (NA - 1))]
+    await bench.send(prog)
+    await bench.drain()
+    check_end(bench, prog)

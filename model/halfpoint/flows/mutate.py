@@ -2,7 +2,8 @@
 """``make mutate``: mutation testing of the RTL with Yosys's ``mutate`` pass.
 
     python -m halfpoint.flows.mutate [--count N] [--seed S] [--sim SIM]
-                                     [--jobs J] [--only I,J..] [MODULE...]
+                                     [--jobs J] [--only I,J.. [--tests T,U..]]
+                                     [MODULE...]
 
 How (YosysHQ mcy's method, without mcy).  For each module:
 
@@ -11,7 +12,15 @@ How (YosysHQ mcy's method, without mcy).  For each module:
    (design.il, ports.json), and ``mutate -list N -seed S`` picks N mutations
    (a signal bit forced to 0 or 1, inverted, or replaced by a neighbour
    bit) spread over the netlist.  mutations.txt holds them, one ``mutate``
-   command a line; mutant k is line k (1-based).
+   command a line; mutant k is line k (1-based).  A target whose netlist
+   holds other modules' units (the core, flattened) can draw its mutants
+   from some of its sources only (``Target.mutate_sources``): ``mutate
+   -list`` is given the selection of every wire and of the cells whose
+   ``src`` attribute starts in those files (``a:src=rtl/FILE.v:*``), and
+   ``gen`` refuses a list with a mutation of any other cell (the cell's src
+   read back from the netlist).  A listed mutation may still carry a second
+   ``-src`` of another file: a bit of the core's cell whose net is named by
+   a unit's port (the queue memory's read data on ``u_arc.s_ye``, say).
 2. ``build``: ``mutate -ctrl mutsel B k ...`` puts ALL N mutations into one
    netlist, mutation k active when the new input ``mutsel`` equals k
    (``mutsel`` = 0: the design unchanged).  The netlist's top is renamed
@@ -38,6 +47,11 @@ the proven ones go to <out>/<module>/equivalent-proposed.toml, to be
 reviewed into the list.  (FAIL there: a counterexample exists, a test is
 missing; UNKNOWN: the induction did not close at that depth.)
 
+``--only`` runs some mutants (the survivors of a full run, on the tests as
+they are now); ``--tests`` with it runs only the tests named (those added
+since the full run: the survivors passed the others there, and the tests are
+deterministic).
+
 Results: build/mutate/report.json and a table (per module: mutants, killed,
 survived, equivalent, score = killed / (mutants - equivalent), seconds per
 mutant); survivors are listed with their source location.  Exit status 0
@@ -55,7 +69,7 @@ import shutil
 import subprocess
 import sys
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 try:
@@ -83,6 +97,23 @@ class Target:
     testcases: tuple = ()          # empty: every test of test_module
     extra_env: dict = field(default_factory=dict)
     why: str = ""
+    # the sources (names in rtl/, without .v) whose cells the mutants are drawn
+    # from; empty: all of ``sources``.  The netlist is still the whole of
+    # ``sources`` (flattened), so the mutants are tested in context.
+    mutate_sources: tuple = ()
+
+    def selection(self) -> str:
+        """The Yosys selection ``mutate -list`` draws from: every wire (so that
+        the names and src of the listed wires are those of the whole netlist)
+        and the cells whose src attribute starts in one of ``mutate_sources``;
+        empty (the whole design) when ``mutate_sources`` is empty."""
+        if not self.mutate_sources:
+            return ""
+        unknown = [s for s in self.mutate_sources if s not in self.sources]
+        if unknown:
+            raise ValueError(f"{self.module}: mutate_sources {', '.join(unknown)} "
+                             f"are not among its sources")
+        return "w:* " + " ".join(f"a:src=rtl/{s}.v:*" for s in self.mutate_sources)
 
 
 # The parameter sets: the smallest widths the module's tests run at, so that
@@ -109,9 +140,13 @@ TARGETS = {t.module: t for t in [
             "halfpoint_stepgen", "halfpoint_profile", "halfpoint_outputs"),
            {"NA": 2, "W": 16, "DEPTH": 8, "TW": 16, "DIV": 4, "MOVE_DEPTH": 2, "PWM_BITS": 6,
             "PROFILE_DEPTH": 1}, "core_cocotb",
-           extra_env={"HP_SEED": 1, "HP_CORE_SCOPE": "u_mutants"},
+           extra_env={"HP_SEED": 1, "HP_CORE_SCOPE": "u_mutants", "HP_CORE_LONG": 1},
            why="as test_core_rtl NA2-W16-D8-DIV4; the bench reads the registered step "
-               "readiness and the head move in the wrapper's u_mutants"),
+               "readiness and the head move in the wrapper's u_mutants, and runs "
+               "profile_distance_bits in full (every bit of d_exit, d_stop); the mutants are "
+               "the core's own cells (queue, decode, dispatch, readiness, flush, "
+               "positions): the units are mutated by their own targets",
+           mutate_sources=("halfpoint_core",)),
     Target("halfpoint_refloop", ("halfpoint_refloop",), {"WR": 34, "FOLD": 0},
            "refloop_cocotb", extra_env={"HP_SEED": 1}, why="as test_refloop_rtl fold 0"),
     Target("halfpoint_uart_cmd", ("halfpoint_uart_cmd",),
@@ -178,11 +213,35 @@ chparam {params} {target.module}
 prep -top {target.module}
 {flatten}write_rtlil {workdir / 'design.il'}
 write_json {workdir / 'ports.json'}
-mutate -list {count} -seed {seed} -o {workdir / 'mutations.txt'}
+mutate -list {count} -seed {seed} -o {workdir / 'mutations.txt'} {target.selection()}
 """, workdir, "gen")
     lines = [ln.strip() for ln in (workdir / "mutations.txt").read_text().splitlines()
              if ln.strip().startswith("mutate ")]
-    return [Mutation(k + 1, line) for k, line in enumerate(lines)]
+    mutations = [Mutation(k + 1, line) for k, line in enumerate(lines)]
+    foreign = foreign_mutations(target, mutations, workdir)
+    if foreign:
+        raise RuntimeError(f"{target.module}: {len(foreign)} mutations of cells outside "
+                           f"{', '.join(target.mutate_sources)}, e.g. {foreign[0]}")
+    return mutations
+
+
+def cell_sources(workdir: Path, module: str) -> dict[str, list[str]]:
+    """cell name -> the files of its src attribute, from the netlist (ports.json)."""
+    design = json.loads((workdir / "ports.json").read_text())
+    cells = design["modules"][module]["cells"]
+    return {name: [loc.split(":")[0] for loc in c["attributes"].get("src", "").split("|")
+                   if loc] for name, c in cells.items()}
+
+
+def foreign_mutations(target: Target, mutations: list[Mutation], workdir: Path) -> list[str]:
+    """The mutations whose cell's src attribute does not start in one of the target's
+    ``mutate_sources`` (none when it draws from the whole design)."""
+    if not target.mutate_sources:
+        return []
+    files = {f"rtl/{s}.v" for s in target.mutate_sources}
+    cells = cell_sources(workdir, target.module)
+    return [m.command for m in mutations
+            if not cells.get(m.option("cell").lstrip("\\"), [""])[0] in files]
 
 
 def ports(workdir: Path, module: str) -> list[tuple[str, str, int]]:
@@ -542,6 +601,10 @@ def main(argv=None) -> int:
     ap.add_argument("--jobs", type=int, default=1, help="mutants run at once (default 1)")
     ap.add_argument("--only", default="",
                     help="comma-separated mutant indices to run (default: all)")
+    ap.add_argument("--tests", default="",
+                    help="with --only: comma-separated names of the tests to run (default: "
+                         "the target's); for re-running the survivors of a full run on the "
+                         "tests added since, as they passed the others already")
     ap.add_argument("--out", type=Path, default=None,
                     help=f"work directory (default {OUT.relative_to(REPO)})")
     ap.add_argument("--list", action="store_true", help="list the mutations and exit")
@@ -561,6 +624,9 @@ def main(argv=None) -> int:
         ap.error(f"--only {args.only!r}: comma-separated integers expected")
     if any(not 1 <= k <= args.count for k in only):
         ap.error(f"--only: indices are 1..{args.count}")
+    tests = tuple(t.strip() for t in args.tests.split(",") if t.strip())
+    if tests and not only:
+        ap.error("--tests needs --only (a full run runs every test of the target)")
     out = OUT if args.out is None else args.out.resolve()
     entries = load_equivalent()
     modules = args.modules or list(TARGETS)
@@ -571,7 +637,10 @@ def main(argv=None) -> int:
         return 0
     reports = []
     for name in modules:
-        reports.append(run_module(TARGETS[name], args.count, args.seed, args.sim, args.jobs,
+        target = TARGETS[name]
+        if tests:
+            target = replace(target, testcases=tests)
+        reports.append(run_module(target, args.count, args.seed, args.sim, args.jobs,
                                   only or None, out, entries, prove_depth=args.prove))
         out.mkdir(parents=True, exist_ok=True)
         (out / "report.json").write_text(json.dumps(reports, indent=2) + "\n")
