@@ -47,6 +47,11 @@ the proven ones go to <out>/<module>/equivalent-proposed.toml, to be
 reviewed into the list.  (FAIL there: a counterexample exists, a test is
 missing; UNKNOWN: the induction did not close at that depth.)
 
+A target may name slow tests (``Target.slow_tests``, with ``slow_env``): they
+run only on the mutants that survive its tests and are not listed equivalent
+(the core's ``far_distance``, 65,600 clocks, for a bit of the distance that
+only a segment that long reaches), and a kill there counts as a kill.
+
 ``--only`` runs some mutants (the survivors of a full run, on the tests as
 they are now); ``--tests`` with it runs only the tests named (those added
 since the full run: the survivors passed the others there, and the tests are
@@ -101,6 +106,12 @@ class Target:
     # from; empty: all of ``sources``.  The netlist is still the whole of
     # ``sources`` (flattened), so the mutants are tested in context.
     mutate_sources: tuple = ()
+    # a second tier for what the tests above cannot reach in their time: tests
+    # run (with slow_env added) only on the mutants that survive the first
+    # tier and are not listed equivalent, so that a long test costs its time
+    # once per survivor, not once per mutant
+    slow_tests: tuple = ()
+    slow_env: dict = field(default_factory=dict)
 
     def selection(self) -> str:
         """The Yosys selection ``mutate -list`` draws from: every wire (so that
@@ -145,8 +156,10 @@ TARGETS = {t.module: t for t in [
                "readiness and the head move in the wrapper's u_mutants, and runs "
                "profile_distance_bits in full (every bit of d_exit, d_stop); the mutants are "
                "the core's own cells (queue, decode, dispatch, readiness, flush, "
-               "positions): the units are mutated by their own targets",
-           mutate_sources=("halfpoint_core",)),
+               "positions): the units are mutated by their own targets; far_distance (a "
+               "65,600-clock line, HP_CORE_FAR) runs as a second tier on the survivors",
+           mutate_sources=("halfpoint_core",), slow_tests=("far_distance",),
+           slow_env={"HP_CORE_FAR": 1}),
     Target("halfpoint_refloop", ("halfpoint_refloop",), {"WR": 34, "FOLD": 0},
            "refloop_cocotb", extra_env={"HP_SEED": 1}, why="as test_refloop_rtl fold 0"),
     Target("halfpoint_uart_cmd", ("halfpoint_uart_cmd",),
@@ -491,6 +504,37 @@ def equivalent_for(target: Target, seed: int, entries: list[dict]) -> dict[str, 
             and e["parameters"] == target.parameters}
 
 
+def mutation_key(command: str) -> str:
+    """A mutate command without Yosys's automatic numbers (``$procmux$5323``,
+    ``$ne$rtl/halfpoint_core.v:334$1892``): they count every cell made before, so they
+    shift when another module of the netlist changes (the core's cells when the arc
+    unit does); the cell's kind, its source span, the port or wire and the bit still
+    name the mutation."""
+    return re.sub(r"\$\d+", "$", command)
+
+
+def match_listed(known: dict[str, str], generated: list[str]) -> dict[str, str]:
+    """Generated command -> reason for those the list holds: the exact command, or
+    else the same command up to the automatic numbers when that key names one listed
+    and one generated mutation only (a key shared by two is matched exactly or not
+    at all)."""
+    by_key: dict[str, list[str]] = {}
+    for c in known:
+        by_key.setdefault(mutation_key(c), []).append(c)
+    generated_keys: dict[str, int] = {}
+    for c in generated:
+        generated_keys[mutation_key(c)] = generated_keys.get(mutation_key(c), 0) + 1
+    found = {}
+    for c in generated:
+        if c in known:
+            found[c] = known[c]
+            continue
+        k = mutation_key(c)
+        if generated_keys[k] == 1 and len(by_key.get(k, [])) == 1:
+            found[c] = known[by_key[k][0]]
+    return found
+
+
 def run_module(target: Target, count: int, seed: int, simulator: str, jobs: int,
                only: list[int] | None = None, out: Path = OUT,
                entries: list[dict] | None = None, log=print, prove_depth: int = 0) -> dict:
@@ -517,7 +561,19 @@ def run_module(target: Target, count: int, seed: int, simulator: str, jobs: int,
         for k, m in enumerate(pool.map(one, chosen), 1):
             if k % 25 == 0 or k == len(chosen):
                 log(f"  {k}/{len(chosen)} run")
-    known = equivalent_for(target, seed, entries if entries is not None else load_equivalent())
+    listed = equivalent_for(target, seed, entries if entries is not None else load_equivalent())
+    known = match_listed(listed, [m.command for m in mutations])
+    # the second tier: the slow tests on the survivors not listed equivalent
+    tier2 = [m for m in chosen if m.status == "SURVIVED" and m.command not in known]
+    if target.slow_tests and tier2:
+        slow = replace(target, testcases=target.slow_tests,
+                       extra_env={**target.extra_env, **target.slow_env})
+        log(f"  second tier ({', '.join(target.slow_tests)}) on {len(tier2)} survivors")
+        for m in tier2:
+            status, detail, seconds = run_one(slow, workdir, simulator, m.index, None)
+            m.seconds += seconds
+            if status == "KILLED":
+                m.status, m.detail = status, f"second tier: {detail}"
     commands = {m.command for m in mutations}
     stale = []
     for m in chosen:
@@ -527,8 +583,9 @@ def run_module(target: Target, count: int, seed: int, simulator: str, jobs: int,
             else:
                 stale.append(f"listed equivalent but killed: {m.index} {m.command}")
     if not only:
+        matched = {mutation_key(c) for c in known}
         stale += [f"listed but not generated (RTL or Yosys changed): {c}"
-                  for c in known if c not in commands]
+                  for c in listed if c not in commands and mutation_key(c) not in matched]
     proofs = {}
     if prove_depth:
         # survivors not in the list: is any input sequence able to tell them apart?
