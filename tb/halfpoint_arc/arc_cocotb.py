@@ -731,3 +731,20 @@ async def axis_starts(dut):
                         run.advance()
                 cmds.append((cw, xs, ys, run.x, run.y))
     await run_accepted(dut, bench, cmds, "axis starts")
+
+
+@cocotb.test()
+async def ends_at_the_origin(dut):
+    """Ends at the centre, which the tolerance accepts on the smallest circles
+    (R^2 <= 2 max(|xs|, |ys|)): the end's frame is u = v = 0, the only end
+    with ue = 0 (found by mutation testing: a mutant computing ue == 0 as
+    never true survived every other test)."""
+    bind(dut)
+    bench = ArcBench(dut, W, seed=SEED + 97)
+    await bench.start()
+    starts = [(xs, ys) for xs in range(-2, 3) for ys in range(-2, 3)
+              if (xs, ys) != (0, 0) and xs * xs + ys * ys <= 2 * max(abs(xs), abs(ys))]
+    assert len(starts) == 12         # (±1, 0), (0, ±1), (±1, ±1), (±2, 0), (0, ±2)
+    cmds = [(cw, xs, ys, 0, 0) for xs, ys in starts for cw in (0, 1)]
+    await run_accepted(dut, bench, cmds, "ends at the origin")
+
