@@ -570,7 +570,9 @@ def run_module(target: Target, count: int, seed: int, simulator: str, jobs: int,
                        extra_env={**target.extra_env, **target.slow_env})
         log(f"  second tier ({', '.join(target.slow_tests)}) on {len(tier2)} survivors")
         for m in tier2:
-            status, detail, seconds = run_one(slow, workdir, simulator, m.index, None)
+            # a time limit well above the slow tests' own (a hang there is a kill)
+            status, detail, seconds = run_one(slow, workdir, simulator, m.index,
+                                              max(4 * timeout, 300.0))
             m.seconds += seconds
             if status == "KILLED":
                 m.status, m.detail = status, f"second tier: {detail}"
