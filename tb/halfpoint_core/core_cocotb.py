@@ -589,8 +589,6 @@ class DistanceCases:
     def segment(self, params, d):
         (v_cruise, v_exit, accel_field, deltas), (a_cruise, a_accel, a_deltas) = params
         inverted = self.distances(~d & self.top)
-        if self.field == "d_exit":
-            inverted = (inverted[0], inverted[0])
         cruise_c = ~v_cruise & 0xFFFFFFFF
         pad = [0] * (NA - 2)
         tested = [enc.encode_profile(v_cruise, v_exit, accel_field, line_cost(deltas),
@@ -725,7 +723,6 @@ async def cont_waits_at_head(dut):
     its CONT: with nothing behind it, its end is an underrun.  Every clock compared
     with the model."""
     bind(dut)
-    rng = random.Random(SEED + 12)
     bench = new_bench(dut, seed=SEED + 12)
     await bench.start()
     first = enc.encode_line([40, 13] + [0] * (NA - 2), cont=True)

@@ -264,22 +264,19 @@ def soak(segments: int = 1_000_000, seed: int = 1, axes: int = 3, per_batch: int
     work = BUILD / "soak" / f"na{axes}_seed{seed}"
     work.mkdir(parents=True, exist_ok=True)
     nbatch = -(-segments // per_batch)
-    if only_batch is not None and not 0 <= only_batch < nbatch:
-        raise ValueError(f"batch {only_batch} is not one of the {nbatch} batches")
-    if batches is not None and not 0 <= batches[0] < batches[1] <= nbatch:
-        raise ValueError(f"batches {batches[0]}:{batches[1]} are not a range of the "
-                         f"{nbatch} batches (0:{nbatch})")
     if only_batch is not None:
-        indices = [only_batch]
-    elif batches is not None:
-        indices = list(range(*batches))
-    else:
-        indices = list(range(nbatch))
+        if not 0 <= only_batch < nbatch:
+            raise ValueError(f"batch {only_batch} is not one of the {nbatch} batches")
+        batches = (only_batch, only_batch + 1)
+    first, end = batches if batches is not None else (0, nbatch)
+    if not 0 <= first < end <= nbatch:
+        raise ValueError(f"batches {first}:{end} are not a range of the "
+                         f"{nbatch} batches (0:{nbatch})")
+    indices = list(range(first, end))
     jobs_args = [(seed, i, axes, min(per_batch, segments - per_batch * i),
                   corrupt[1] if corrupt and corrupt[0] == i else None) for i in indices]
     total = sum(a[3] for a in jobs_args)
-    res = SoakResult(True, first_batch=indices[0], end_batch=indices[-1] + 1,
-                     total_batches=nbatch)
+    res = SoakResult(True, first_batch=first, end_batch=end, total_batches=nbatch)
     pending = None              # (path, chunk, Popen) the harness is checking
     model_s = 0.0
 
