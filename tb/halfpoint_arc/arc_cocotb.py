@@ -13,7 +13,9 @@ import random
 
 import cocotb
 
-from arcgen import arc_for_quadrants, full_circle, nearest_on_circle, short_arc, start_point
+from arcgen import (
+    arc_for_quadrants, full_circle, nearest_on_circle, octant_order_ends, short_arc, start_point,
+)
 from halfpoint.spec.arc import (
     ERR_END_OFF, ERR_RADIUS_ZERO, ERR_RANGE, arc_points, limits, validate, validate_latency,
 )
@@ -748,3 +750,18 @@ async def ends_at_the_origin(dut):
     cmds = [(cw, xs, ys, 0, 0) for xs, ys in starts for cw in (0, 1)]
     await run_accepted(dut, bench, cmds, "ends at the origin")
 
+
+
+@cocotb.test()
+async def octant_order_ends_every_bit(dut):
+    """Short arcs to ends off the path next to the octant boundary, for each
+    bit of ve and ue and each way a stuck bit would turn the compare ve <= ue
+    that picks the end's progress order, where the other order stops at
+    another move (``arcgen.octant_order_ends``; found by mutation testing: a
+    mutant that cleared bit 10 of ve in that compare survived every other
+    test, as no other test ends off the path where the order decides)."""
+    bind(dut)
+    bench = ArcBench(dut, W, seed=SEED + 101)
+    await bench.start()
+    cmds = octant_order_ends(random.Random(SEED + 101), W)
+    await run_accepted(dut, bench, cmds, "octant order ends")

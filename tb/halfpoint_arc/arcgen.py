@@ -6,7 +6,7 @@ from __future__ import annotations
 import math
 import random
 
-from halfpoint.spec.arc import frame, limits, validate
+from halfpoint.spec.arc import frame, limits, step, validate
 from halfpoint.spec.arc import lattice_point_near as nearest_on_circle
 
 
@@ -58,3 +58,146 @@ def full_circle(r: int, theta: float, cw: int):
         return (cw, r, 0, r, 0)
     x, y = round(r * math.cos(theta)), round(r * math.sin(theta))
     return (cw, x, y, x, y)
+
+
+# The end test orders the points of E's quadrant by (v, -u) when E is in the
+# quadrant's first octant (ve <= ue) and by (-u, v) otherwise.  The two orders
+# agree on the lattice path (every move lowers u or raises v), so they differ
+# only for an end off the path; the compare ve <= ue then decides where the
+# arc stops.  A flip names a bit of ve or ue that, stuck at 0 or 1, would turn
+# that compare: "ve_cleared" is an end with ve > ue whose compare turns when
+# the bit is cleared from ve, and so on.
+OCTANT_FLIPS = ("ve_cleared", "ve_set", "ue_cleared", "ue_set")
+
+
+def _flip_end(rng: random.Random, bit: int, flip: str, top: int) -> tuple[int, int] | None:
+    """(ue, ve), each 1..top, whose compare ve <= ue the flip turns."""
+    b = 1 << bit
+    # half of the tries with no higher bits: a radius of about 2^bit, where
+    # an end up to 2^bit from the diagonal lies well inside the octant
+    high = 0
+    if rng.random() < 0.5:
+        high = rng.randrange(max(1, (top + 1) >> (bit + 1))) << (bit + 1)
+    low = rng.randrange(b)
+    if flip == "ve_cleared":            # ve > ue >= ve - b
+        ve = high | b | low
+        ue = ve - 1 - rng.randrange(b)
+    elif flip == "ve_set":              # ve <= ue < ve + b
+        ve = high | low
+        ue = ve + rng.randrange(b)
+    elif flip == "ue_cleared":          # ue >= ve > ue - b
+        ue = high | b | low
+        ve = ue - rng.randrange(b)
+    else:                               # ue < ve <= ue + b
+        ue = high | low
+        ve = ue + 1 + rng.randrange(b)
+    if 1 <= ue <= top and 1 <= ve <= top:
+        return ue, ve
+    return None
+
+
+def flips(ue: int, ve: int, bit: int, flip: str) -> bool:
+    """Whether the flip of this bit turns the compare ve <= ue."""
+    b = 1 << bit
+    if flip == "ve_cleared":
+        return bool(ve & b) and ve > ue >= ve - b
+    if flip == "ve_set":
+        return not ve & b and ve <= ue < (ve | b)
+    if flip == "ue_cleared":
+        return bool(ue & b) and ue >= ve > ue - b
+    return not ue & b and ue < ve <= (ue | b)
+
+
+def moves_with_order(cmd, first_octant: bool, limit: int) -> int | None:
+    """Moves of an arc whose end test uses the given order (the model's end
+    test with the octant forced), or None when it does not stop in limit."""
+    cw, xs, ys, xe, ye = cmd
+    q, u, v = frame(xs, ys, cw)
+    qe, ue, ve = frame(xe, ye, cw)
+    f = 0
+
+    def before(pu: int, pv: int) -> bool:
+        if first_octant:
+            return pv < ve or (pv == ve and pu > ue)
+        return pu > ue or (pu == ue and pv < ve)
+
+    armed = not (q == qe and not before(u, v))
+    for moves in range(1, limit + 1):
+        _, _, _, _, q2, u2, v2, f2, crossing = step(q, u, v, f, cw)
+        stop = False
+        if armed and q == qe:
+            stop = bool(crossing) or not before(u2, v2)
+        elif armed and crossing and q2 == qe:
+            stop = not before(u2, v2)
+        armed = armed or bool(crossing)
+        q, u, v, f = q2, u2, v2, f2
+        if stop:
+            return moves
+    return None
+
+
+def octant_order_end(rng: random.Random, width: int, bit: int, flip: str,
+                     tries: int = 300) -> tuple[int, int, int, int, int] | None:
+    """A short arc (about 15 moves) to an end off the path, next to the
+    octant boundary as ``flip`` and ``bit`` say, where the other order would
+    stop at another move; None if the tries find none (the small bits leave
+    few such ends)."""
+    top, r2_max = limits(width)
+    for _ in range(tries):
+        target = _flip_end(rng, bit, flip, top)
+        if target is None or target[0] ** 2 + target[1] ** 2 > r2_max:
+            continue
+        r2 = target[0] ** 2 + target[1] ** 2
+        theta = math.atan2(target[1], target[0]) - rng.uniform(8, 16) / math.sqrt(r2)
+        xs, ys = nearest_on_circle(r2, theta)
+        q, u, v = frame(xs, ys, 0)
+        if q != 0 or xs * xs + ys * ys > r2_max:
+            continue
+        # the ends next to the path from this start, in its quadrant
+        ends = set()
+        f = 0
+        for _ in range(40):
+            for du in (-1, 0, 1):
+                for dv in (-1, 0, 1):
+                    if u + du >= 1 and v + dv >= 1 and flips(u + du, v + dv, bit, flip):
+                        ends.add((u + du, v + dv))
+            q, u, v, f = step(q, u, v, f, 0)[4:8]
+            if q != 0:
+                break
+        found = []
+        for ue, ve in sorted(ends):
+            cmd = (0, xs, ys, ue, ve)
+            if validate(xs, ys, ue, ve, width):
+                continue
+            first = ve <= ue
+            moves = moves_with_order(cmd, first, 64)
+            if moves is not None and moves_with_order(cmd, not first, 64) != moves:
+                found.append(cmd)
+        if not found:
+            continue
+        _, xs, ys, ue, ve = rng.choice(found)
+        # the same arc in a random quadrant and direction: a quarter turn
+        # (x, y) -> (-y, x) and the mirror (x, y) -> (x, -y) with the other
+        # direction keep the frame (q, u, v) of every point
+        turn = rng.randrange(4)
+        cw = rng.randrange(2)
+        points = [(xs, ys), (ue, ve)]
+        for _ in range(turn):
+            points = [(-y, x) for x, y in points]
+        if cw:
+            points = [(x, -y) for x, y in points]
+        (xs, ys), (xe, ye) = points
+        return (cw, xs, ys, xe, ye)
+    return None
+
+
+def octant_order_ends(rng: random.Random, width: int) -> list[tuple[int, int, int, int, int]]:
+    """One octant_order_end for each bit of a magnitude and each flip, where
+    the tries find one."""
+    cmds = []
+    for bit in range(width - 1):
+        for flip in OCTANT_FLIPS:
+            cmd = octant_order_end(rng, width, bit, flip, 1000 if bit < 5 else 300)
+            if cmd is not None:
+                cmds.append(cmd)
+    return cmds

@@ -9,6 +9,8 @@ import random
 import numpy as np
 import pytest
 
+from arcgen import OCTANT_FLIPS, flips, moves_with_order, octant_order_end
+
 from halfpoint.spec.arc import (
     ERR_END_OFF, ERR_NONE, ERR_RADIUS_ZERO, ERR_RANGE, ArcRejected, ArcRun,
     ArcInputs, ArcUnitModel, arc_points, frame, full_circle_stats, limits,
@@ -204,3 +206,23 @@ def test_cycle_model_arc_to_arc_boundary():
     moves = [k for k, o in enumerate(seen) if o.move]
     # every clock from the first move to the last but the boundary's one
     assert moves[-1] - moves[0] + 1 == len(moves) + 1
+
+
+@pytest.mark.parametrize("width", [16, 23, 32])
+def test_octant_order_ends_cover_every_bit_from_3(width):
+    """The RTL test octant_order_ends_every_bit has, for every bit from 3 up
+    and each of the four flips, an accepted arc whose stop moves when the
+    end's progress order is the other one (bits 0..2 leave few or no such
+    ends: the radius is a few BLU)."""
+    rng = random.Random(102)
+    for bit in range(3, width - 1):
+        for flip in OCTANT_FLIPS:
+            cmd = octant_order_end(rng, width, bit, flip, 1000 if bit < 5 else 300)
+            assert cmd is not None, (bit, flip)
+            cw, xs, ys, xe, ye = cmd
+            assert validate(xs, ys, xe, ye, width) == ERR_NONE
+            _, ue, ve = frame(xe, ye, cw)
+            assert flips(ue, ve, bit, flip)
+            moves = len(arc_points(xs, ys, xe, ye, cw, width)) - 1
+            assert moves_with_order(cmd, ve <= ue, 64) == moves
+            assert moves_with_order(cmd, ve > ue, 64) != moves
