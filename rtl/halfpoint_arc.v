@@ -740,7 +740,8 @@ module halfpoint_arc #(
     //              exactly when it changes, dir_x/dir_y its sign, held between
     //              steps; x, y, f, move, done, reject are the registered views
     //              of the edge before;
-    // (Termination, at most 5(2 floor(R) + 2) + 1 moves, is not checked here.)
+    //   ends       (F_RUN_ENDS) termination: every arc stops within 5 * 2^W
+    //              moves, under the assumed range (see the block below);
     // Labels: a_* the contract, i_* invariants that tie the validator's
     // registers and the run stage to the monitor so that k-induction closes
     // (F_SQUARER: the shift-and-add partial product of the squaring).  rst,
@@ -1064,6 +1065,72 @@ module halfpoint_arc #(
 `endif
         end
 
+`endif
+
+`ifdef F_RUN_ENDS
+    // ---- termination (F_RUN_ENDS, the task ends_w8) ----
+    // Within a quadrant every move lowers u or raises v (or both), so the
+    // moves made since the quadrant was entered are at most (u - u_entry) +
+    // (v - v_entry) in absolute terms: f_quadrant_moves. An arc crosses into
+    // the next quadrant at most four times before its last move: it is armed
+    // from the load (it starts in another quadrant than its end, or before
+    // the end in the end's quadrant) or from its first crossing, and an armed
+    // arc stops on the move that would leave the end's quadrant. With the
+    // range 1 <= u <= M - 2, v <= M - 2 (assumed, as in prove_w8), a quadrant
+    // takes fewer than 2M = 2^W moves, so an arc fewer than 5 * 2^W (a_ends).
+    // With u, v <= R + 1/2 instead (the circle), the same count gives the
+    // documented 5 (2 floor(R) + 2) + 1.
+    localparam integer F_MW = W + 4;            // the move counts: < 5 * 2^W
+    reg  [2:0]      f_crossings;                // quadrant crossings since the load
+    reg  [1:0]      f_first_quad;               // the quadrant at the load
+    reg             f_load_armed;               // armed at the load
+    reg  [W-1:0]    f_u_entry, f_v_entry;       // u, v where this quadrant was entered
+    reg  [F_MW-1:0] f_quadrant_moves, f_arc_moves;
+    always @(posedge clk) begin
+        if (load) begin
+            f_crossings      <= 3'd0;
+            f_first_quad     <= pend_quad_q;
+            f_load_armed     <= pend_armed_q;
+            f_u_entry        <= pend_u_q;
+            f_v_entry        <= pend_v_q;
+            f_quadrant_moves <= {F_MW{1'b0}};
+            f_arc_moves      <= {F_MW{1'b0}};
+        end else if (advance) begin
+            f_arc_moves <= f_arc_moves + 1'b1;
+            if (crossing) begin
+                f_crossings      <= f_crossings + 3'd1;
+                f_u_entry        <= u_n;
+                f_v_entry        <= {W{1'b0}};
+                f_quadrant_moves <= {F_MW{1'b0}};
+            end else begin
+                f_quadrant_moves <= f_quadrant_moves + 1'b1;
+            end
+        end
+    end
+    wire [1:0] f_turned = cw_q ? f_first_quad - f_crossings[1:0]
+                               : f_first_quad + f_crossings[1:0];
+    // crossings from the first quadrant to the end's, in the direction
+    wire [1:0] f_to_end = cw_q ? f_first_quad - end_quad_q : end_quad_q - f_first_quad;
+    wire [F_MW-1:0] f_made = ({{(F_MW-W){1'b0}}, f_u_entry} - {{(F_MW-W){1'b0}}, u_q})
+                           + ({{(F_MW-W){1'b0}}, v_q} - {{(F_MW-W){1'b0}}, f_v_entry});
+    always @(*)
+        if (f_past_valid && !rst && f_slot_valid && f_after1)
+            // a pending arc not armed starts in its end's quadrant
+            i_e_pend:    assert(pend_armed_q || pend_quad_q == pend_end_quad_q);
+    always @(*)
+        if (f_past_valid && !rst && run_q) begin
+            i_e_quad:    assert(quad_q == f_turned);
+            i_e_armed:   assert(armed_q == (f_load_armed || f_crossings != 3'd0));
+            i_e_first:   assert(f_load_armed || f_first_quad == end_quad_q);
+            i_e_cross:   assert(f_load_armed ? (f_crossings <= {1'b0, f_to_end})
+                                             : (f_crossings <= 3'd4));
+            i_e_entry:   assert(u_q <= f_u_entry && v_q >= f_v_entry);
+            i_e_range:   assert(f_u_entry <= F_MAG_MAX);
+            i_e_inside:  assert(f_quadrant_moves <= f_made);
+            i_e_count:   assert(f_arc_moves <= ({{(F_MW-3){1'b0}}, f_crossings} << W)
+                                               + f_quadrant_moves);
+            a_ends:      assert(f_arc_moves < ({{(F_MW-3){1'b0}}, 3'd5} << W));
+        end
 `endif
 
     // ---- registered outputs: one step per axis per move, in its direction ----
