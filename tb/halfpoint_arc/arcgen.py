@@ -6,7 +6,7 @@ from __future__ import annotations
 import math
 import random
 
-from halfpoint.spec.arc import frame, limits, step, validate
+from halfpoint.spec.arc import before_in_order, frame, limits, step, validate
 from halfpoint.spec.arc import lattice_point_near as nearest_on_circle
 
 
@@ -117,9 +117,7 @@ def moves_with_order(cmd, first_octant: bool, limit: int) -> int | None:
     f = 0
 
     def before(pu: int, pv: int) -> bool:
-        if first_octant:
-            return pv < ve or (pv == ve and pu > ue)
-        return pu > ue or (pu == ue and pv < ve)
+        return before_in_order(pu, pv, ue, ve, first_octant)
 
     armed = not (q == qe and not before(u, v))
     for moves in range(1, limit + 1):

@@ -114,9 +114,17 @@ def frame(x: int, y: int, cw: int) -> tuple[int, int, int]:
 
 def before(u: int, v: int, ue: int, ve: int) -> bool:
     """Whether (u, v) comes strictly before (ue, ve) in E's progress order."""
-    if ve <= ue:  # first octant of the quadrant: order (v, -u)
+    return before_in_order(u, v, ue, ve, ve <= ue)
+
+
+def before_in_order(u: int, v: int, ue: int, ve: int, first_octant: bool) -> bool:
+    """Whether (u, v) comes strictly before (ue, ve) in the order of the first
+    octant of the quadrant, (v, -u), or else of the second, (-u, v); E's own
+    octant picks the order (``before``), and the two agree on every point of the
+    lattice path (each move lowers u or raises v)."""
+    if first_octant:
         return v < ve or (v == ve and u > ue)
-    return u > ue or (u == ue and v < ve)  # second octant: order (-u, v)
+    return u > ue or (u == ue and v < ve)
 
 
 def validate(xs: int, ys: int, xe: int, ye: int, width: int) -> int:
