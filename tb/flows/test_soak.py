@@ -3,12 +3,15 @@
 same soak with one expected move altered fails naming the mismatch, the batch and a
 command that reproduces it (so the checker can fail)."""
 
+import dataclasses
 import io
 
 import pytest
 
 from halfpoint.flows.soak import main, make_batch, report, soak
-from halfpoint.flows.simspeed import check_holds
+from halfpoint.flows.simspeed import (
+    check_holds, harness_binary, model_run, run_harness, write_vectors,
+)
 
 SEED = 5
 BUILD = "quick"         # the harness built quickest (-O1, one build): a lean test
@@ -58,6 +61,26 @@ def test_batches_are_reproducible_and_varied():
     b, cb = make_batch(SEED, 7, 6, 60)
     assert a == b and ca == cb
     assert {label[1] for label in ca if label[0] == "line"} >= {"1 axes", "6 axes"}
+    # the short soak above has gaps in the stream while the core runs
+    assert sum(len(make_batch(SEED, i, 3, 40)[0].stream_gaps) for i in range(6)) >= 3
+
+
+def test_harness_keeps_the_stream_gaps(tmp_path):
+    """The harness drops tvalid in a batch's stream gaps as the model does: vectors the
+    model computed with a long gap pass with it and fail without it."""
+    batch, _ = make_batch(SEED, 2, 3, 40)
+    batch = dataclasses.replace(batch, holds=[], stream_gaps=[])
+    plain = model_run(batch)
+    start = plain.times[0]          # while commands remain: the queue runs dry
+    gapped = dataclasses.replace(batch, stream_gaps=[(start, start + 20000)])
+    exp = model_run(gapped)
+    assert exp.times != plain.times
+    binary, _ = harness_binary(3, BUILD)
+    for sent, ok in ((gapped, True), (batch, False)):
+        path = tmp_path / f"gaps_{ok}.vec"
+        write_vectors(path, 3, [(0, sent, exp)])
+        res = run_harness(binary, path)
+        assert res.ok == ok, res.failure
 
 
 def test_bad_holds_are_refused():

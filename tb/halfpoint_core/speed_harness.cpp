@@ -4,21 +4,24 @@
 //
 // It reads a vector file written by model/halfpoint/flows/soak.py: a sequence of
 // batches, each a job the model (spec.fastcore.run_fast) has already run from reset:
-// the STEP/DIR settings, the feed override, the idle clocks before the batch (a
-// stream gap: tvalid low), the commands, the feed-hold intervals and what the model
+// the STEP/DIR settings, the feed override, the idle clocks before the batch (tvalid
+// low), the commands, the feed-hold intervals, the stream gaps and what the model
 // saw: every move strobe's clock and positions, the error codes, the run's length
 // in clocks and the final dry / underrun flags.  Per batch the harness idles the
-// core for the gap, pulses reset, streams the commands with tvalid high while any
-// is left (as the model does: back-pressure from tready), drives hold in the
+// core for the idle clocks, pulses reset, streams the commands with tvalid high
+// while any is left (as the model does: back-pressure from tready) except in the
+// stream gaps, where tvalid is low unless a beat offered before still waits for
+// tready (AXI4-Stream: a beat once offered stays offered), drives hold in the
 // intervals, and compares each move strobe with the next expected move; nothing
 // else happens per clock (no tracing, no per-clock model).  The compile-time
 // constant HP_NA (-DHP_NA=3) is the core's NA; W must be 32 and TW 16.
 //
 // File: little-endian 64-bit words.  Header: magic, NA.  Batch: id (-1 ends the
-// file), commands, moves, errors, holds, clocks, dry, underrun, override, gap,
-// then per axis steplen stepspace dirsetup dirhold step_inv dir_inv; then the
-// commands (4 words each, least significant first), the holds (start, end: hold
-// high in start <= clock < end), the moves (clock, NA positions), the errors.
+// file), commands, moves, errors, holds, stream gaps, clocks, dry, underrun,
+// override, idle clocks, then per axis steplen stepspace dirsetup dirhold step_inv
+// dir_inv; then the commands (4 words each, least significant first), the holds
+// (start, end: hold high in start <= clock < end), the stream gaps (start, end:
+// tvalid low in start <= clock < end), the moves (clock, NA positions), the errors.
 //
 // Prints "batches <b> clocks <n> seconds <s> cpu_seconds <c> moves <m>" (the
 // simulation loop's wall and CPU time) and exits 0, or
@@ -134,9 +137,9 @@ int main(int argc, char** argv) {
             if (!in.ok(1)) return bad("batch id");
             const int64_t id = in.next();
             if (id < 0) break;
-            if (!in.ok(10 + 6 * HP_NA)) return bad("batch header");
+            if (!in.ok(11 + 6 * HP_NA)) return bad("batch header");
             const int64_t ncmd = in.next(), nmove = in.next(), nerr = in.next();
-            const int64_t nhold = in.next(), want_clocks = in.next();
+            const int64_t nhold = in.next(), ngap = in.next(), want_clocks = in.next();
             const int64_t want_dry = in.next(), want_underrun = in.next();
             const int64_t override = in.next(), gap = in.next();
             for (int a = 0; a < HP_NA; ++a) {
@@ -148,11 +151,12 @@ int main(int argc, char** argv) {
                 set_bit(top.cfg_dir_inv, a, in.next());
             }
             top.feed_override = static_cast<CData>(override);
-            const int64_t size = 4 * ncmd + 2 * nhold + (1 + HP_NA) * nmove + nerr;
+            const int64_t size = 4 * ncmd + 2 * nhold + 2 * ngap + (1 + HP_NA) * nmove + nerr;
             if (!in.ok(size)) return bad("batch body");
             const int64_t* cmd = &in.words[in.at];
             const int64_t* hold = cmd + 4 * ncmd;
-            const int64_t* move = hold + 2 * nhold;
+            const int64_t* stream_gap = hold + 2 * nhold;
+            const int64_t* move = stream_gap + 2 * ngap;
             const int64_t* err = move + (1 + HP_NA) * nmove;
             in.at += size;
 
@@ -176,8 +180,21 @@ int main(int argc, char** argv) {
             // the hold input changes at these clocks only (the intervals are sorted,
             // disjoint and apart: simspeed.check_holds)
             int64_t hold_edge = nhold ? hold[0] : INT64_MAX;
-            bool loaded = false;
+            // the same for the stream gaps (simspeed.check_holds)
+            int64_t gi = 0, gap_edge = ngap ? stream_gap[0] : INT64_MAX;
+            bool in_gap = false;
+            bool loaded = false;            // a beat offered and not taken yet
             while (idx < ncmd || idle < 4) {
+                if (cyc == gap_edge) {
+                    if (!in_gap) {
+                        in_gap = true;
+                        gap_edge = stream_gap[2 * gi + 1];
+                    } else {
+                        in_gap = false;
+                        ++gi;
+                        gap_edge = gi < ngap ? stream_gap[2 * gi] : INT64_MAX;
+                    }
+                }
                 if (cyc == hold_edge) {
                     if (!top.hold) {
                         top.hold = 1;
@@ -219,7 +236,7 @@ int main(int argc, char** argv) {
                     ++ne;
                 }
                 const bool busy = top.busy;
-                if (idx < ncmd) {
+                if (idx < ncmd && (loaded || !in_gap)) {
                     if (!loaded) {
                         const int64_t* c = cmd + 4 * idx;
                         for (int w = 0; w < 4; ++w) {

@@ -67,9 +67,11 @@ def random_holds(rng, length, count):
     return out
 
 
-def check_equal(cmds, params, holds=(), override=128):
-    ref = fc.run_clocked(cmds, *params, holds=holds, override=override, max_clocks=400_000)
-    got = fc.run_fast(cmds, *params, holds=holds, override=override, max_clocks=400_000)
+def check_equal(cmds, params, holds=(), override=128, gaps=()):
+    ref = fc.run_clocked(cmds, *params, holds=holds, override=override, max_clocks=400_000,
+                         gaps=gaps)
+    got = fc.run_fast(cmds, *params, holds=holds, override=override, max_clocks=400_000,
+                      gaps=gaps)
     assert got.trace == ref.trace, "positions differ"
     for k, (a, b) in enumerate(zip(got.times, ref.times)):
         assert a == b, f"move {k}: fast model at cycle {a}, clock-by-clock at {b}"
@@ -118,6 +120,25 @@ def test_fast_equals_clocked(case, seed):
     holds = random_holds(rng, ref.clocks, rng.randint(1, 4))
     override = rng.choice((128, 128, 96, 37))
     check_equal(cmds, params, holds, override)
+    # and with gaps in the stream while the core moves (tvalid low), with and
+    # without the holds
+    gaps = random_holds(rng, ref.clocks, rng.randint(1, 6))
+    check_equal(cmds, params, (), 128, gaps)
+    check_equal(cmds, params, holds, override, gaps)
+
+
+def test_stream_gaps_delay_and_starve():
+    """A gap in the stream delays what follows it and, long enough, starves the
+    core, in both models alike."""
+    rng = random.Random(41)
+    cfg = random_cfg(rng, 3)
+    cmds = random_program(rng, 3, 32, 4, 8, slow=False)
+    params = (3, 32, 4, 16, 4, 3, 2, cfg)
+    ref, _ = check_equal(cmds, params)
+    late, _ = check_equal(cmds, params, gaps=[(0, 500)])
+    assert late.times[0] == ref.times[0] + 500
+    starved, _ = check_equal(cmds, params, gaps=[(ref.times[len(ref.times) // 3], ref.clocks)])
+    assert starved.times != ref.times and starved.clocks > ref.clocks
 
 
 def test_hold_at_start_and_across_the_end():

@@ -104,6 +104,9 @@ class Batch:
     holds: list = field(default_factory=list)   # (A, B): hold high in A <= clock < B
     override: int = OVERRIDE_ONE    # the feed override, constant
     gap: int = 0                    # idle clocks before the batch's reset
+    # (A, B): tvalid low in A <= clock < B while the batch runs (a beat offered
+    # and not yet taken stays offered, as AXI4-Stream requires)
+    stream_gaps: list = field(default_factory=list)
 
     def settings(self) -> list:
         return self.cfg or [StepCfg() for _ in range(self.axes)]
@@ -125,17 +128,18 @@ def model_run(batch: Batch) -> Expected:
     """The model's run of a batch (``spec.fastcore.run_fast``)."""
     run = run_fast(batch.cmds, batch.axes, HARNESS_W, HARNESS_DEPTH, HARNESS_TW, HARNESS_DIV,
                    HARNESS_MOVE_DEPTH, HARNESS_PROFILE_DEPTH, batch.settings(),
-                   holds=batch.holds, override=batch.override)
+                   holds=batch.holds, override=batch.override, gaps=batch.stream_gaps)
     return Expected(run.times, run.trace, run.errors, run.clocks, run.dry, run.underrun)
 
 
-def check_holds(holds) -> list:
-    """The holds as the harness needs them: sorted, each non-empty, disjoint and not
-    touching (the harness switches hold at the interval edges only)."""
+def check_holds(holds, what: str = "hold") -> list:
+    """The holds (or stream gaps) as the harness needs them: sorted, each non-empty,
+    disjoint and not touching (the harness switches hold, or the gap, at the interval
+    edges only)."""
     out = sorted((int(a), int(b)) for a, b in holds)
     for (a, b), nxt in zip(out, out[1:] + [None]):
         if not 0 <= a < b or (nxt is not None and nxt[0] <= b):
-            raise ValueError(f"hold intervals must be non-empty, disjoint and apart: {out}")
+            raise ValueError(f"{what} intervals must be non-empty, disjoint and apart: {out}")
     return out
 
 
@@ -143,8 +147,9 @@ def batch_words(batch_id: int, batch: Batch, exp: Expected) -> array:
     """One batch of the vector file (format: the harness's header comment)."""
     mask = (1 << 64) - 1
     holds = check_holds(batch.holds)
+    gaps = check_holds(batch.stream_gaps, "stream gap")
     w = array("Q", [batch_id, len(batch.cmds), len(exp.times), len(exp.errors), len(holds),
-                    exp.clocks, exp.dry, exp.underrun, batch.override, batch.gap])
+                    len(gaps), exp.clocks, exp.dry, exp.underrun, batch.override, batch.gap])
     cfg = batch.settings()
     if len(cfg) != batch.axes:
         raise ValueError(f"{len(cfg)} STEP/DIR settings for {batch.axes} axes")
@@ -153,6 +158,8 @@ def batch_words(batch_id: int, batch: Batch, exp: Expected) -> array:
     for cmd in batch.cmds:
         w.extend((cmd >> (64 * k)) & mask for k in range(enc.CMD_BITS // 64))
     for a, b in holds:
+        w.extend((a, b))
+    for a, b in gaps:
         w.extend((a, b))
     for t, p in zip(exp.times, exp.trace):
         w.append(t)

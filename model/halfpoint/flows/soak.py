@@ -10,12 +10,13 @@ the wide arithmetic and the quadrant changes run without 10^8 moves); lines movi
 ``--per-batch`` segments each); a batch is one job: profiles planned by
 ``spec.program.profiled`` over it (random cruise speeds, accelerations and junction
 speeds, the batch starting and ending at rest), random STEP/DIR settings and
-polarities, a random constant feed override, random feed-hold intervals, and a stream
-gap before it (the core at rest with tvalid low for a random number of clocks, then
-reset).  Within a batch the commands stream back to back with back-pressure from
-tready, exactly as ``spec.fastcore.run_fast`` streams them: that model takes hold
-intervals but no tvalid pattern, so gaps while the core moves (the queue running dry
-mid-program) are not soaked here; the cocotb core tests cover them clock by clock.
+polarities, a random constant feed override, random feed-hold intervals, idle clocks
+before it (the core at rest with tvalid low for a random number of clocks, then
+reset) and random gaps in the stream while it runs (``random_stream_gaps``: tvalid
+low for 1..20,000 clocks, short ones the queue hides, long ones that starve the core;
+a beat offered and not yet taken stays offered, as AXI4-Stream requires).  Within a
+batch the commands stream with back-pressure from tready, exactly as
+``spec.fastcore.run_fast`` streams them with the same holds and gaps.
 
 The model runs in ``--jobs`` worker processes; the main process writes every
 ``--chunk`` batches to a vector file and the harness (``flows.simspeed``) checks
@@ -62,9 +63,10 @@ LINE_SHARE = 0.5            # share of segments that are lines
 LINE_SCALES = ((0.65, 12), (0.3, 60), (0.05, 400))    # (share, largest |delta|)
 
 
-def batch_rng(seed: int, index: int) -> random.Random:
-    """The random source of batch ``index`` of a soak with ``seed``."""
-    return random.Random(f"halfpoint-soak:{seed}:{index}")
+def batch_rng(seed: int, index: int, part: str = "") -> random.Random:
+    """The random source of batch ``index`` of a soak with ``seed`` (of a part of it,
+    drawn apart from the rest)."""
+    return random.Random(f"halfpoint-soak:{seed}:{index}" + (f":{part}" if part else ""))
 
 
 def _pick(rng: random.Random, weights: dict):
@@ -142,9 +144,29 @@ def random_holds(rng: random.Random, horizon: int) -> list:
     return out
 
 
+def random_stream_gaps(rng: random.Random, horizon: int) -> list:
+    """0..4 gaps in the command stream (tvalid low, 1..20,000 clocks) starting within
+    ``horizon`` clocks, while the core moves: short ones the command queue hides, long
+    ones that let it run dry (a gap after the last command changes nothing); sorted,
+    disjoint and apart."""
+    gaps = []
+    for _ in range(rng.choice((0, 1, 1, 2, 3, 4))):
+        a = rng.randrange(max(horizon, 1))
+        gaps.append((a, a + rng.choice((1, 2, rng.randint(3, 40), rng.randint(41, 2000),
+                                        rng.randint(2001, 20000)))))
+    gaps.sort()
+    out = []
+    for a, b in gaps:
+        if out and a <= out[-1][1]:
+            continue
+        out.append((a, b))
+    return out
+
+
 def make_batch(seed: int, index: int, axes: int, segments: int) -> tuple[Batch, Counter]:
     """Batch ``index`` of a soak: ``segments`` random segments with planned profiles,
-    its STEP/DIR settings, override, holds and gap; and its segment classes."""
+    its STEP/DIR settings, override, holds, idle clocks and stream gaps; and its segment
+    classes."""
     rng = batch_rng(seed, index)
     cmds, classes = [], Counter()
     for _ in range(segments):
@@ -161,7 +183,12 @@ def make_batch(seed: int, index: int, axes: int, segments: int) -> tuple[Batch, 
     override = rng.choice((pf.OVERRIDE_ONE, pf.OVERRIDE_ONE, pf.OVERRIDE_ONE, 96, 64, 33))
     holds = random_holds(rng, 40 * segments * 20)
     gap = rng.choice((0, 1, 2, 5, 17, 100))
-    return Batch(prog, axes, cfg, holds, override, gap), classes
+    # the stream gaps from a source of their own, so that the rest of a batch is
+    # what the same seed gave before they were added
+    # (starting in about the first third of a batch, while commands remain)
+    stream_gaps = random_stream_gaps(batch_rng(seed, index, "stream gaps"),
+                                     10 * segments * 20)
+    return Batch(prog, axes, cfg, holds, override, gap, stream_gaps), classes
 
 
 @dataclass

@@ -86,7 +86,8 @@ class FastRun(ProgramRun):
 
 
 class _Holds:
-    """hold as a function of the cycle: high in A <= cycle < B for (A, B) in holds."""
+    """hold (or a stream gap) as a function of the cycle: high in A <= cycle < B for
+    (A, B) in the intervals."""
 
     def __init__(self, holds):
         self.ivals = sorted((int(a), int(b)) for a, b in holds if b > a)
@@ -385,32 +386,44 @@ def _new_model(axes, width, depth, tw, div, move_depth, profile_depth, cfg) -> C
 
 def run_fast(cmds, axes: int, width: int, depth: int, tw: int, div: int, move_depth: int,
              profile_depth: int, cfg, holds=(), override: int = pf.OVERRIDE_ONE,
-             max_clocks: int = 1 << 40) -> FastRun:
+             max_clocks: int = 1 << 40, gaps=()) -> FastRun:
     """Stream ``cmds`` into a fresh core back to back until it is idle again (as
     ``spec.core.run_program``), ``hold`` high in the cycles of ``holds`` [(A, B), ...]
-    (A <= cycle < B), the feed override constant; skips the quiet stretches."""
+    (A <= cycle < B), the feed override constant, and tvalid low in the cycles of
+    ``gaps`` [(A, B), ...] except while a beat offered before is still waiting for
+    tready (AXI4-Stream: a beat once offered stays offered); skips the quiet
+    stretches."""
     m = _new_model(axes, width, depth, tw, div, move_depth, profile_depth, cfg)
     m.clock(CoreInputs(rst=1))
     hs = _Holds(holds)
+    gs = _Holds(gaps)
     ovq = min(override, pf.OVERRIDE_ONE)
     run = FastRun([], [], [])
     n = len(cmds)
     idx = cyc = idle = 0
     hold_next = hs.next_change(-1)
     hold = hs.at(0)
+    gap_next = gs.next_change(-1)
+    gap = gs.at(0)
+    waiting = False                 # a beat offered in the clock before, not taken
     while idx < n or idle < 4:
         if cyc >= max_clocks:
             raise RuntimeError(f"the core is still busy after {max_clocks} clocks")
         if cyc >= hold_next:
             hold = hs.at(cyc)
             hold_next = hs.next_change(cyc)
+        if cyc >= gap_next:
+            gap = gs.at(cyc)
+            gap_next = gs.next_change(cyc)
+        offer = idx < n and (waiting or not gap)
         if not m.o_err:
             more = idx < n
-            running = _static(m, more)
+            running = _static(m, offer)
             if running is not False:
                 # a quiet stretch, the edge that pops, the edge after it: in one go
-                # while each is possible (the command side stays static meanwhile)
-                stop_at = min(hold_next, max_clocks)
+                # while each is possible (the command side stays static meanwhile:
+                # a beat offered waits, none is offered in a gap)
+                stop_at = min(hold_next, gap_next, max_clocks)
                 start = cyc
                 if not m.o_move and (running is None or len(m.moves) >= m.move_depth):
                     k = _stage_clocks(m, running, more, hold, ovq, stop_at - cyc)
@@ -431,6 +444,7 @@ def run_fast(cmds, axes: int, width: int, depth: int, tw: int, div: int, move_de
                     run.lean += 1
                 if cyc > start:
                     idle = 0
+                    waiting = offer
                     continue
         o = m.outputs()
         if o.move:
@@ -439,10 +453,13 @@ def run_fast(cmds, axes: int, width: int, depth: int, tw: int, div: int, move_de
         if o.err:
             run.errors.append(o.err_code)
         inp = CoreInputs(hold=hold, override=override)
-        if idx < n:
+        waiting = False
+        if offer:
             inp.tvalid, inp.tdata = 1, cmds[idx]
             if o.tready:
                 idx += 1
+            else:
+                waiting = True
         idle = 0 if (o.busy or idx < n) else idle + 1
         m.clock(inp)
         cyc += 1
@@ -453,15 +470,17 @@ def run_fast(cmds, axes: int, width: int, depth: int, tw: int, div: int, move_de
 
 def run_clocked(cmds, axes: int, width: int, depth: int, tw: int, div: int, move_depth: int,
                 profile_depth: int, cfg, holds=(), override: int = pf.OVERRIDE_ONE,
-                max_clocks: int = 50_000_000) -> FastRun:
+                max_clocks: int = 50_000_000, gaps=()) -> FastRun:
     """The clock-by-clock reference: ``spec.core.run_program``'s loop with the same
-    hold and override inputs as ``run_fast``."""
+    hold, override and stream-gap inputs as ``run_fast``."""
     m = _new_model(axes, width, depth, tw, div, move_depth, profile_depth, cfg)
     m.clock(CoreInputs(rst=1))
     hs = _Holds(holds)
+    gs = _Holds(gaps)
     run = FastRun([], [], [])
     n = len(cmds)
     idx = cyc = idle = 0
+    waiting = False
     while idx < n or idle < 4:
         if cyc >= max_clocks:
             raise RuntimeError(f"the core is still busy after {max_clocks} clocks")
@@ -472,10 +491,14 @@ def run_clocked(cmds, axes: int, width: int, depth: int, tw: int, div: int, move
         if o.err:
             run.errors.append(o.err_code)
         inp = CoreInputs(hold=hs.at(cyc), override=override)
-        if idx < n:
+        offer = idx < n and (waiting or not gs.at(cyc))
+        waiting = False
+        if offer:
             inp.tvalid, inp.tdata = 1, cmds[idx]
             if o.tready:
                 idx += 1
+            else:
+                waiting = True
         idle = 0 if (o.busy or idx < n) else idle + 1
         m.clock(inp)
         cyc += 1
