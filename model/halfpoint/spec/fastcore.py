@@ -301,8 +301,9 @@ def _try_pop(m: CoreModel, hold: int, ovq: int) -> bool:
     (the caller checked ``_static`` and that no unit produces): the stage's view of a
     pop written out (``ProfileStage.view`` / ``clock``), taken only when the move is
     not its segment's last, the staircase neither starts nor steps, the speed does
-    not step and the registered target and override pipeline have settled; then the move queue, STEP/DIR requests and positions.  False
-    (nothing changed) when the clock is anything else: it then runs exactly."""
+    not step and the registered target and override pipeline have settled; then the
+    move queue, STEP/DIR requests and positions.  False (nothing changed) when the
+    clock is anything else: it then runs exactly."""
     st = m.stage
     cur = st.cur
     if cur is None or not m.moves or st.ov_q != ovq:
