@@ -4,7 +4,8 @@
 
 ``run_fast`` streams a program into the core back to back, as
 ``spec.core.run_program`` does (tvalid high while commands remain, the queue as full
-as tready allows), optionally with feed-hold intervals and a constant feed override,
+as tready allows), optionally with feed-hold intervals, a constant feed override and
+gaps in the stream (tvalid low, but never under a beat offered and not yet taken),
 and returns the cycle of every move strobe, the position after every move, the error
 codes, and the final ``dry`` / ``underrun`` flags: equal to the clock-by-clock model's,
 cycle for cycle.  Cycle numbering is ``run_program``'s: cycle 0 is the first clock
@@ -20,7 +21,8 @@ runs through the specification's own unit section with the stage in closed form
 (``_lean_clock``).  A stretch is
 quiet when, on every one of its clocks:
 
-* no beat enters the command queue (it is full, or the program is all in) and the
+* no beat enters the command queue (it is full, the program is all in, or the stream
+  is in a gap, which ends the stretch where it ends) and the
   dispatcher neither pops, rejects nor hands a command to a unit;
 * the units neither validate (each in its idle state or holding a validated command
   that cannot start: a unit is running, the other or, for an arc behind an arc, the
