@@ -135,9 +135,14 @@ def random_holds(rng: random.Random, horizon: int) -> list:
     for _ in range(rng.choice((0, 0, 1, 1, 2, 3))):
         a = rng.randrange(max(horizon, 1))
         holds.append((a, a + rng.randint(50, 3000)))
-    holds.sort()
+    return _apart(holds)
+
+
+def _apart(intervals) -> list:
+    """The intervals sorted, without each one that starts at or before the end of the
+    one kept before it (so that they are disjoint and apart, as the harness needs)."""
     out = []
-    for a, b in holds:
+    for a, b in sorted(intervals):
         if out and a <= out[-1][1]:
             continue
         out.append((a, b))
@@ -154,13 +159,7 @@ def random_stream_gaps(rng: random.Random, horizon: int) -> list:
         a = rng.randrange(max(horizon, 1))
         gaps.append((a, a + rng.choice((1, 2, rng.randint(3, 40), rng.randint(41, 2000),
                                         rng.randint(2001, 20000)))))
-    gaps.sort()
-    out = []
-    for a, b in gaps:
-        if out and a <= out[-1][1]:
-            continue
-        out.append((a, b))
-    return out
+    return _apart(gaps)
 
 
 def make_batch(seed: int, index: int, axes: int, segments: int) -> tuple[Batch, Counter]:
