@@ -142,3 +142,16 @@ def test_a_yosys_warning_fails_the_proof(tmp_path):
     assert (tmp_path / "work" / "warned_prove" / "PASS").exists(), res   # sby: it holds
     assert res.status == "ERROR" and "implicitly declared" in res.note, res
     assert not res.ok
+
+
+def test_arc_termination_mutant_breaks_the_proof(tmp_path):
+    """An arc that a crossing does not arm could circle for ever: the termination
+    proof (ends_w8) no longer closes, on the invariant that ties armed to the
+    crossings; a NOPROOF mutant is as expected only when its proof does not pass."""
+    m = next(m for m in formal.MUTANTS if m.name == "arc_never_armed")
+    assert m.expect == "NOPROOF"
+    (r,) = formal.run_mutant(m, tmp_path / "mut")
+    assert r.status in ("FAIL", "UNKNOWN") and r.ok, r
+    assert any(f.startswith("i_e_armed") for f in r.failed), r.failed
+    assert not formal.Result("x", status="PASS", expect="NOPROOF").ok
+    assert not formal.Result("x", status="UNKNOWN", expect="FAIL").ok
