@@ -756,8 +756,13 @@ module halfpoint_arc #(
     // F_INCREMENTS_ASSUMED (the task bound_w8): the run stage's increment
     // invariants, which prove_w8 proves without the bound, are assumed, so
     // that the bound's induction has only the bound to find
+    // F_INCREMENTS_PAST (the task range_w8): they are assumed one clock late
+    // only (at the clock before), and not checked at the current one (a cover
+    // is not checked in prove mode): see the block F_LOAD_CIRCLE
 `ifdef F_INCREMENTS_ASSUMED
 `define F_INC assume
+`elsif F_INCREMENTS_PAST
+`define F_INC cover
 `else
 `define F_INC assert
 `endif
@@ -1019,26 +1024,36 @@ module halfpoint_arc #(
     reg f_last_d;
     always @(posedge clk)
         f_last_d <= !rst && last;
+    // the increments against their formulas in u, v (modulo 2^(W+2), as the
+    // datapath computes them); D1 = F - 2u + v + 1 and D2 = F - u + 2v + 1 in
+    // the equivalent form D2 - D1 = u + v, D2 - F = -u + 2v + 1 (the direct
+    // form's induction did not finish in 10 minutes, this one does)
+    wire f_inc_d1 = (d2_q - d1_q == f_ud + f_vd);
+    wire f_inc_d2 = (d2_q - f_q == (f_vd << 1) + ONE_D - f_ud);
+    wire f_inc_p3 = (d_add_a_q == ((f_vd - f_ud) << 1) + FIVE_D);
+    wire f_inc_q1 = (d2_add_b_q == TWO_D - (f_ud << 1));
+    wire f_inc_q2 = (d2_add_c_q == (f_vd << 1) + THREE_D);
+    wire f_inc_q4 = (d2_add_b_cross_q == ZERO_D - f_vd - (f_vd << 1));
+    wire f_inc_g1 = (f_add_b_q == ONE_D - (f_ud << 1));
+    wire f_inc_g3 = (f_add_a_q == ((f_vd - f_ud) << 1) + TWO_D);
+    wire f_run_checked = f_past_valid && !rst && (run_q || f_last_d);
 `ifndef F_PROTOCOL_ONLY
     always @(*)
-        if (f_past_valid && !rst && (run_q || f_last_d)) begin
+        if (f_run_checked) begin
             i_cw:       assert(cw_q == f_run_cw);
             i_u_one:    assert(u_one_q == (u_q == ONE_W));
             // the point in its quadrant's frame
             i_px:       assert(point_x_q == (x_positive ? f_xmag : ~f_xmag + ONE_W));
             i_py:       assert(point_y_q == (y_positive ? f_ymag : ~f_ymag + ONE_W));
-            // the increments (modulo 2^(W+2), as the datapath computes them);
-            // D1 = F - 2u + v + 1 and D2 = F - u + 2v + 1 in the equivalent
-            // form D2 - D1 = u + v, D2 - F = -u + 2v + 1 (the direct form's
-            // induction did not finish in 10 minutes, this one does)
-            a_d1:       `F_INC(d2_q - d1_q == f_ud + f_vd);
-            a_d2:       `F_INC(d2_q - f_q == (f_vd << 1) + ONE_D - f_ud);
-            a_p3:       `F_INC(d_add_a_q == ((f_vd - f_ud) << 1) + FIVE_D);
-            a_q1:       `F_INC(d2_add_b_q == TWO_D - (f_ud << 1));
-            a_q2:       `F_INC(d2_add_c_q == (f_vd << 1) + THREE_D);
-            a_q4:       `F_INC(d2_add_b_cross_q == ZERO_D - f_vd - (f_vd << 1));
-            a_g1:       `F_INC(f_add_b_q == ONE_D - (f_ud << 1));
-            a_g3:       `F_INC(f_add_a_q == ((f_vd - f_ud) << 1) + TWO_D);
+            // the increments
+            a_d1:       `F_INC(f_inc_d1);
+            a_d2:       `F_INC(f_inc_d2);
+            a_p3:       `F_INC(f_inc_p3);
+            a_q1:       `F_INC(f_inc_q1);
+            a_q2:       `F_INC(f_inc_q2);
+            a_q4:       `F_INC(f_inc_q4);
+            a_g1:       `F_INC(f_inc_g1);
+            a_g3:       `F_INC(f_inc_g3);
 `ifndef F_RUN_CIRCLE
             // without F_RUN_CIRCLE the range of u and v, which follows from
             // the circle, is assumed (F_RUN_CIRCLE asserts it)
@@ -1060,11 +1075,47 @@ module halfpoint_arc #(
             i_run_r2:   assert(f_run_r2 != {F_PW{1'b0}} && f_run_r2 <= F_R2_MAX);
             a_f_circle: assert(f_fw == {4'b0000, f_u_sq} + {4'b0000, f_v_sq} - f_run_r2);
 `endif
+`ifdef F_LOAD_CIRCLE
+            // F on the circle's terms, R^2 taken as u^2 + v^2 of the load
+            i_c_r2:     assert(f_load_r2 <= F_R2_MAX);
+            a_c_circle: assert(f_fw == {4'b0000, f_u_sq} + {4'b0000, f_v_sq} - f_load_r2);
+`endif
             a_f_low:    assert($signed(f_fw) >= -$signed(f_uw + f_vw));
             a_f_high:   assert($signed(f_fw) < $signed(f_uw + f_vw));
 `endif
         end
 
+`endif
+
+`ifdef F_LOAD_CIRCLE
+    // ---- the circle from the load (F_LOAD_CIRCLE, the task range_w8) ----
+    // R^2 is taken as u^2 + v^2 of the loaded start point (the same sum of
+    // squares as xs^2 + ys^2: u, v are |xs|, |ys| in some order), in 2W-bit
+    // products, and the validator's range check R^2 <= (M-1)(M-2) and a
+    // start off the centre (u >= 1) are ASSUMED at the load (the reject
+    // codes are not proven); from them F = u^2 + v^2 - R^2, the bound and
+    // the range 1 <= u <= M - 2, v <= M - 2 are proven together.
+    reg  [F_PW-1:0] f_load_r2;
+    wire [2*W-1:0]  f_pend_u_sq = pend_u_q * pend_u_q;     // 2W bits (the context's)
+    wire [2*W-1:0]  f_pend_v_sq = pend_v_q * pend_v_q;
+    wire [F_PW-1:0] f_pend_r2 = {4'b0000, f_pend_u_sq} + {4'b0000, f_pend_v_sq};
+    always @(posedge clk)
+        if (load) f_load_r2 <= f_pend_r2;
+    always @(*)
+        if (f_past_valid && !rst && load)
+            f_load_range: assume(f_pend_r2 <= F_R2_MAX && pend_u_q != {W{1'b0}});
+`ifdef F_INCREMENTS_PAST
+    // The increment invariants are assumed at the clock before only: this task
+    // proves "increments up to t - 1 => circle, bound and range up to t", and
+    // prove_w8 proves "range up to t => increments up to t" (it assumes the
+    // range), so by induction on t both hold on every clock.
+    reg f_increments_held;
+    always @(posedge clk)
+        f_increments_held <= !f_run_checked || (f_inc_d1 && f_inc_d2 && f_inc_p3
+                             && f_inc_q1 && f_inc_q2 && f_inc_q4 && f_inc_g1 && f_inc_g3);
+    always @(*)
+        f_inc_past: assume(f_increments_held);
+`endif
 `endif
 
 `ifdef F_RUN_ENDS

@@ -83,6 +83,12 @@ class Mutant:
     expect: str = "FAIL"
 
 
+# the arc unit's move rule with A and C swapped (two mutants: two expectations)
+ARC_A_FOR_C = ("wire move_a   = d1_q[DATA_W-1] && !d2_q[DATA_W-1];\n"
+               "    wire move_c   = d1_q[DATA_W-1] && d2_q[DATA_W-1];",
+               "wire move_a   = d1_q[DATA_W-1] && d2_q[DATA_W-1];\n"
+               "    wire move_c   = d1_q[DATA_W-1] && !d2_q[DATA_W-1];")
+
 MUTANTS = [
     Mutant("stepgen_steplen_plus1", "halfpoint_stepgen", "rtl/halfpoint_stepgen.v",
            "? ONE_T : cfg_steplen;", "? ONE_T : cfg_steplen + ONE_T;",
@@ -150,14 +156,15 @@ MUTANTS = [
            "STATE_DECIDE: validator_state_q <= STATE_INIT;",
            ("bmc_w8",),
            "a rejected command still goes to the pending slot (and would run)"),
-    Mutant("arc_a_for_c", "halfpoint_arc", "rtl/halfpoint_arc.v",
-           "wire move_a   = d1_q[DATA_W-1] && !d2_q[DATA_W-1];\n"
-           "    wire move_c   = d1_q[DATA_W-1] && d2_q[DATA_W-1];",
-           "wire move_a   = d1_q[DATA_W-1] && d2_q[DATA_W-1];\n"
-           "    wire move_c   = d1_q[DATA_W-1] && !d2_q[DATA_W-1];",
+    Mutant("arc_a_for_c", "halfpoint_arc", "rtl/halfpoint_arc.v", *ARC_A_FOR_C,
            ("band_w8",),
            "the move rule's A and C swapped (every register updated consistently for the "
            "move made: only F's bound sees the point leave the circle)"),
+    Mutant("arc_a_for_c_range", "halfpoint_arc", "rtl/halfpoint_arc.v", *ARC_A_FOR_C,
+           ("range_w8",),
+           "as arc_a_for_c: the induction of the circle, bound and range no longer closes "
+           "(the bound breaks)",
+           "NOPROOF"),
     Mutant("arc_never_armed", "halfpoint_arc", "rtl/halfpoint_arc.v",
            "armed_q          <= armed_q || crossing;",
            "armed_q          <= armed_q;",
