@@ -742,6 +742,9 @@ module halfpoint_arc #(
     //              of the edge before;
     //   ends       (F_RUN_ENDS) termination: every arc stops within 5 * 2^W
     //              moves, under the assumed range (see the block below);
+    //   range      (F_LOAD_CIRCLE with F_RUN_CIRCLE) the circle, the bound and
+    //              the range proven, the validator's radius checks assumed at
+    //              the load and the increments one clock late (see below);
     // Labels: a_* the contract, i_* invariants that tie the validator's
     // registers and the run stage to the monitor so that k-induction closes
     // (F_SQUARER: the shift-and-add partial product of the squaring).  rst,
