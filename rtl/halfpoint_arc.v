@@ -777,6 +777,7 @@ module halfpoint_arc #(
 `define F_OUT_BOUND
 `endif
     localparam integer F_PW = 2 * W + 4;                    // squares and their sums
+    localparam integer F_MW = W + 4;                        // an arc's moves: < 5 * 2^W
     localparam [W-1:0] F_MAG_MAX = {1'b0, {(W-2){1'b1}}, 1'b0};     // M - 2
     localparam [F_PW-1:0] F_R2_MAX = {2'b00, RADIUS_SQUARE_MAX};
 
@@ -825,7 +826,7 @@ module halfpoint_arc #(
     reg  [F_PW-1:0] f_run_r2;
     reg  [W-1:0]    f_run_xs, f_run_ys;
     reg             f_run_full;                 // start = end: a full circle
-    reg  [15:0]     f_moves;
+    reg  [F_MW-1:0] f_moves;                    // the moves made since the load
     // the arc of the last move (for the registered outputs), the point before
     reg  [F_PW-1:0] f_out_r2;
     reg  [W-1:0]    f_out_xs, f_out_ys, f_px_d, f_py_d;
@@ -857,7 +858,7 @@ module halfpoint_arc #(
                 f_slot_ye    <= s_ye;
                 f_slot_age   <= 6'd0;
             end
-            if (advance) f_moves <= f_moves + 16'd1;
+            if (advance) f_moves <= f_moves + 1'b1;
             if (last) f_run_valid <= 1'b0;
             if (load) begin
                 f_run_valid <= 1'b1;
@@ -868,7 +869,7 @@ module halfpoint_arc #(
                 f_run_xs    <= f_slot_xs;
                 f_run_ys    <= f_slot_ys;
                 f_run_full  <= (f_slot_xs == f_slot_xe) && (f_slot_ys == f_slot_ye);
-                f_moves     <= 16'd0;
+                f_moves     <= {F_MW{1'b0}};
             end
         end
     end
@@ -1124,22 +1125,22 @@ module halfpoint_arc #(
 `ifdef F_RUN_ENDS
     // ---- termination (F_RUN_ENDS, the task ends_w8) ----
     // Within a quadrant every move lowers u or raises v (or both), so the
-    // moves made since the quadrant was entered are at most (u - u_entry) +
-    // (v - v_entry) in absolute terms: f_quadrant_moves. An arc crosses into
+    // moves made since the quadrant was entered (f_quadrant_moves) are at most
+    // (u_entry - u) + (v - v_entry). An arc crosses into
     // the next quadrant at most four times before its last move: it is armed
     // from the load (it starts in another quadrant than its end, or before
     // the end in the end's quadrant) or from its first crossing, and an armed
     // arc stops on the move that would leave the end's quadrant. With the
-    // range 1 <= u <= M - 2, v <= M - 2 (assumed, as in prove_w8), a quadrant
-    // takes fewer than 2M = 2^W moves, so an arc fewer than 5 * 2^W (a_ends).
+    // range 1 <= u <= M - 2, v <= M - 2 (assumed, as in prove_w8; range_w8
+    // proves it), a quadrant takes fewer than 2M = 2^W moves, so an arc fewer
+    // than 5 * 2^W (a_ends, on f_moves).
     // With u, v <= R + 1/2 instead (the circle), the same count gives the
     // documented 5 (2 floor(R) + 2) + 1.
-    localparam integer F_MW = W + 4;            // the move counts: < 5 * 2^W
     reg  [2:0]      f_crossings;                // quadrant crossings since the load
     reg  [1:0]      f_first_quad;               // the quadrant at the load
     reg             f_load_armed;               // armed at the load
     reg  [W-1:0]    f_u_entry, f_v_entry;       // u, v where this quadrant was entered
-    reg  [F_MW-1:0] f_quadrant_moves, f_arc_moves;
+    reg  [F_MW-1:0] f_quadrant_moves;
     always @(posedge clk) begin
         if (load) begin
             f_crossings      <= 3'd0;
@@ -1148,9 +1149,7 @@ module halfpoint_arc #(
             f_u_entry        <= pend_u_q;
             f_v_entry        <= pend_v_q;
             f_quadrant_moves <= {F_MW{1'b0}};
-            f_arc_moves      <= {F_MW{1'b0}};
         end else if (advance) begin
-            f_arc_moves <= f_arc_moves + 1'b1;
             if (crossing) begin
                 f_crossings      <= f_crossings + 3'd1;
                 f_u_entry        <= u_n;
@@ -1181,9 +1180,9 @@ module halfpoint_arc #(
             i_e_entry:   assert(u_q <= f_u_entry && v_q >= f_v_entry);
             i_e_range:   assert(f_u_entry <= F_MAG_MAX);
             i_e_inside:  assert(f_quadrant_moves <= f_made);
-            i_e_count:   assert(f_arc_moves <= ({{(F_MW-3){1'b0}}, f_crossings} << W)
-                                               + f_quadrant_moves);
-            a_ends:      assert(f_arc_moves < ({{(F_MW-3){1'b0}}, 3'd5} << W));
+            i_e_count:   assert(f_moves <= ({{(F_MW-3){1'b0}}, f_crossings} << W)
+                                           + f_quadrant_moves);
+            a_ends:      assert(f_moves < ({{(F_MW-3){1'b0}}, 3'd5} << W));
         end
 `endif
 
