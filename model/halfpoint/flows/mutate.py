@@ -535,6 +535,14 @@ def match_listed(known: dict[str, str], generated: list[str]) -> dict[str, str]:
     return found
 
 
+def unmatched_listed(known: dict[str, str], generated: list[str]) -> list[str]:
+    """The listed commands that name none of the generated mutations, exactly or up
+    to the automatic numbers (``match_listed``): stale entries (the RTL or Yosys
+    changed)."""
+    matched = {mutation_key(c) for c in match_listed(known, generated)}
+    return [c for c in known if c not in generated and mutation_key(c) not in matched]
+
+
 def run_module(target: Target, count: int, seed: int, simulator: str, jobs: int,
                only: list[int] | None = None, out: Path = OUT,
                entries: list[dict] | None = None, log=print, prove_depth: int = 0) -> dict:
@@ -585,9 +593,8 @@ def run_module(target: Target, count: int, seed: int, simulator: str, jobs: int,
             else:
                 stale.append(f"listed equivalent but killed: {m.index} {m.command}")
     if not only:
-        matched = {mutation_key(c) for c in known}
         stale += [f"listed but not generated (RTL or Yosys changed): {c}"
-                  for c in listed if c not in commands and mutation_key(c) not in matched]
+                  for c in unmatched_listed(listed, [m.command for m in mutations])]
     proofs = {}
     if prove_depth:
         # survivors not in the list: is any input sequence able to tell them apart?
