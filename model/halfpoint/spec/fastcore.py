@@ -87,9 +87,9 @@ class FastRun(ProgramRun):
     lean: int = 0                   # ... by the lean edges (``_try_pop``, ``_lean_clock``)
 
 
-class _Holds:
-    """hold (or a stream gap) as a function of the cycle: high in A <= cycle < B for
-    (A, B) in the intervals."""
+class _Intervals:
+    """An input as a function of the cycle (hold, or a gap in the stream): high in
+    A <= cycle < B for (A, B) in the intervals."""
 
     def __init__(self, holds):
         self.ivals = sorted((int(a), int(b)) for a, b in holds if b > a)
@@ -398,8 +398,8 @@ def run_fast(cmds, axes: int, width: int, depth: int, tw: int, div: int, move_de
     stretches."""
     m = _new_model(axes, width, depth, tw, div, move_depth, profile_depth, cfg)
     m.clock(CoreInputs(rst=1))
-    hs = _Holds(holds)
-    gs = _Holds(gaps)
+    hs = _Intervals(holds)
+    gs = _Intervals(gaps)
     ovq = min(override, pf.OVERRIDE_ONE)
     run = FastRun([], [], [])
     n = len(cmds)
@@ -478,8 +478,8 @@ def run_clocked(cmds, axes: int, width: int, depth: int, tw: int, div: int, move
     hold, override and stream-gap inputs as ``run_fast``."""
     m = _new_model(axes, width, depth, tw, div, move_depth, profile_depth, cfg)
     m.clock(CoreInputs(rst=1))
-    hs = _Holds(holds)
-    gs = _Holds(gaps)
+    hs = _Intervals(holds)
+    gs = _Intervals(gaps)
     run = FastRun([], [], [])
     n = len(cmds)
     idx = cyc = idle = 0
