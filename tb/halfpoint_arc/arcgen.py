@@ -6,7 +6,7 @@ from __future__ import annotations
 import math
 import random
 
-from halfpoint.spec.arc import before_in_order, frame, limits, step, validate
+from halfpoint.spec.arc import ArcRun, before_in_order, frame, limits, step, validate
 from halfpoint.spec.arc import lattice_point_near as nearest_on_circle
 
 
@@ -108,30 +108,28 @@ def flips(ue: int, ve: int, bit: int, flip: str) -> bool:
     return not ue & b and ue < ve <= (ue | b)
 
 
-def moves_with_order(cmd, first_octant: bool, limit: int) -> int | None:
-    """Moves of an arc whose end test uses the given order (the model's end
-    test with the octant forced), or None when it does not stop in limit."""
-    cw, xs, ys, xe, ye = cmd
-    q, u, v = frame(xs, ys, cw)
-    qe, ue, ve = frame(xe, ye, cw)
-    f = 0
+class _OrderedRun(ArcRun):
+    """The model's arc run with its end test in a forced order (the first
+    octant's, or the second's) instead of the order E's octant picks."""
 
-    def before(pu: int, pv: int) -> bool:
-        return before_in_order(pu, pv, ue, ve, first_octant)
+    __slots__ = ("first_octant",)
 
-    armed = not (q == qe and not before(u, v))
-    for moves in range(1, limit + 1):
-        _, _, _, _, q2, u2, v2, f2, crossing = step(q, u, v, f, cw)
-        stop = False
-        if armed and q == qe:
-            stop = bool(crossing) or not before(u2, v2)
-        elif armed and crossing and q2 == qe:
-            stop = not before(u2, v2)
-        armed = armed or bool(crossing)
-        q, u, v, f = q2, u2, v2, f2
-        if stop:
-            return moves
-    return None
+    def __init__(self, cmd, first_octant: bool, width: int):
+        self.first_octant = first_octant
+        cw, xs, ys, xe, ye = cmd
+        super().__init__(xs, ys, xe, ye, cw, width, check=False)
+
+    def before_end(self, u: int, v: int) -> bool:
+        return before_in_order(u, v, self.ue, self.ve, self.first_octant)
+
+
+def moves_with_order(cmd, first_octant: bool, limit: int, width: int = 32) -> int | None:
+    """Moves of an accepted arc whose end test uses the given order, or None when
+    it does not stop in ``limit`` moves."""
+    run = _OrderedRun(cmd, first_octant, width)
+    while not run.done and run.moves < limit:
+        run.advance()
+    return run.moves if run.done else None
 
 
 def octant_order_end(rng: random.Random, width: int, bit: int, flip: str,
@@ -168,8 +166,8 @@ def octant_order_end(rng: random.Random, width: int, bit: int, flip: str,
             if validate(xs, ys, ue, ve, width):
                 continue
             first = ve <= ue
-            moves = moves_with_order(cmd, first, 64)
-            if moves is not None and moves_with_order(cmd, not first, 64) != moves:
+            moves = moves_with_order(cmd, first, 64, width)
+            if moves is not None and moves_with_order(cmd, not first, 64, width) != moves:
                 found.append(cmd)
         if not found:
             continue

@@ -224,5 +224,5 @@ def test_octant_order_ends_cover_every_bit_from_3(width):
             _, ue, ve = frame(xe, ye, cw)
             assert flips(ue, ve, bit, flip)
             moves = len(arc_points(xs, ys, xe, ye, cw, width)) - 1
-            assert moves_with_order(cmd, ve <= ue, 64) == moves
-            assert moves_with_order(cmd, ve > ue, 64) != moves
+            assert moves_with_order(cmd, ve <= ue, 64, width) == moves
+            assert moves_with_order(cmd, ve > ue, 64, width) != moves

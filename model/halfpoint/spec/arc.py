@@ -225,7 +225,7 @@ class ArcRun:
         self.qe, self.ue, self.ve = frame(xe, ye, cw)
         # At or past E in E's quadrant already (a full circle is the case
         # start == end): the stop checks wait for the first quadrant crossing.
-        self.armed = not (self.q == self.qe and not before(self.u, self.v, self.ue, self.ve))
+        self.armed = not (self.q == self.qe and not self.before_end(self.u, self.v))
         self.done = False
         self.moves = 0
         self.check = check
@@ -235,6 +235,11 @@ class ArcRun:
         lim = 1 << (self._dw - 1)
         assert -lim <= value < lim, f"datapath overflow: {value} needs more than {self._dw} bits"
         return value
+
+    def before_end(self, u: int, v: int) -> bool:
+        """Whether (u, v) of E's quadrant comes before E in E's progress order (the
+        end test; a subclass may test another order, as the octant tests do)."""
+        return before(u, v, self.ue, self.ve)
 
     @property
     def d1(self) -> int:
@@ -272,9 +277,9 @@ class ArcRun:
         stop = False
         if self.armed:
             if q_old == self.qe:
-                stop = bool(crossing) or not before(u, v, self.ue, self.ve)
+                stop = bool(crossing) or not self.before_end(u, v)
             elif crossing and q == self.qe:
-                stop = not before(u, v, self.ue, self.ve)
+                stop = not self.before_end(u, v)
         if crossing:
             self.armed = True
         self.moves += 1
