@@ -713,7 +713,7 @@ module halfpoint_arc #(
     //   handshake  s_ready only with the validator empty and no abort; the
     //              master holds s_valid and the command until taken (assumed);
     //   no loss    a taken command is validated in W + 5 clocks, then either
-    //              rejected and never loaded (F_SQUARER: with the code of its
+    //              rejected and never loaded (F_CODES: with the code of its
     //              check, 1 R = 0, 2 R^2 > (M-1)(M-2), 3 end off the circle),
     //              or loaded into the run stage from the pending slot and run
     //              to its done; only abort_now or rst drops it; busy iff a
@@ -728,9 +728,8 @@ module halfpoint_arc #(
     //              (the point within about half a BLU of the circle) for the
     //              run stage and the f output, and the range 1 <= u <= M - 2,
     //              v <= M - 2 (no datapath overflow); without F_RUN_CIRCLE
-    //              that range is ASSUMED in the run stage (it follows from the
-    //              circle, whose induction did not finish); F_SQUARER adds
-    //              F = u^2 + v^2 - R^2 = x^2 + y^2 - R^2;
+    //              that range is ASSUMED in the run stage (F_LOAD_CIRCLE
+    //              proves it from the circle, below);
     //   bound      (F_RUN_BOUND) the same bound under the assumed range: it
     //              is linear in F, u, v and every move keeps it, so it closes
     //              by k-induction without the circle;
@@ -745,17 +744,20 @@ module halfpoint_arc #(
     //   range      (F_LOAD_CIRCLE with F_RUN_CIRCLE) the circle, the bound and
     //              the range proven, the validator's radius checks assumed at
     //              the load and the increments one clock late (see below);
+    //   codes      (F_CODES) the reject codes against the squarer's sums as it
+    //              ends them (taken in SUM): each check, the code given, and
+    //              at the load what range_w8 assumes there (with a_load_ok);
+    //   squaring   (F_SQUARING, F_SQUARING_K = k) the squaring registers after
+    //              k clocks against the shift-and-add partial sums of the
+    //              command's magnitudes (linear: no product in the induction),
+    //              and the sums taken against those after W clocks;
+    //   squares    (F_SQUARE_LEMMA) the partial sums after W clocks are the
+    //              sums of squares: with the two above, the codes hold
+    //              against xs^2 + ys^2 and xe^2 + ye^2;
     // Labels: a_* the contract, i_* invariants that tie the validator's
-    // registers and the run stage to the monitor so that k-induction closes
-    // (F_SQUARER: the shift-and-add partial product of the squaring).  rst,
-    // en, start_en and abort_now are free (rst high on the first clock).
+    // registers and the run stage to the monitor so that k-induction closes.
+    // rst, en, start_en and abort_now are free (rst high on the first clock).
     // F_PROTOCOL_ONLY leaves out the run stage's invariants (a quick proof).
-    // F_SQUARER (no sby task: its induction did not finish in 5 minutes, a
-    // bmc of it stalled at step 5) and F_SQUARE_ASSUMED (its squaring
-    // invariants assumed) are kept for a faster solver.
-`ifdef F_SQUARER
-`define F_CIRCLE
-`endif
     // F_INCREMENTS_ASSUMED (the task bound_w8): the run stage's increment
     // invariants, which prove_w8 proves without the bound, are assumed, so
     // that the bound's induction has only the bound to find
@@ -812,23 +814,55 @@ module halfpoint_arc #(
     wire [F_PW-1:0] f_axs = f_wide(f_slot_xs), f_ays = f_wide(f_slot_ys);
     wire [F_PW-1:0] f_axe = f_wide(f_slot_xe), f_aye = f_wide(f_slot_ye);
     wire [F_PW-1:0] f_slot_tol = (f_axs > f_ays) ? (f_axs << 1) : (f_ays << 1);
-`ifdef F_CIRCLE
-    wire [F_PW-1:0] f_slot_r2 = f_axs * f_axs + f_ays * f_ays;
-    wire [F_PW-1:0] f_slot_e2 = f_axe * f_axe + f_aye * f_aye;
+    // the shift-and-add partial sum of two squares after k clocks: the sum
+    // over i < k of a_i (a << i) + b_i (b << i), that is a (a mod 2^k) +
+    // b (b mod 2^k), added in the squarer's order (a's term, then b's, one
+    // bit after the other) and without a product, so that the induction
+    // stays linear and each clock's step is the squarer's own add; at k = W
+    // it is a^2 + b^2 for all a, b < 2^W, which F_SQUARE_LEMMA (the task
+    // square_w8) proves
+    function [F_PW-1:0] f_squares;
+        input [F_PW-1:0] f_a;
+        input [F_PW-1:0] f_b;
+        input [5:0]      f_k;
+        integer          f_i;
+        begin
+            f_squares = {F_PW{1'b0}};
+            for (f_i = 0; f_i < W; f_i = f_i + 1)
+                if (f_i < f_k)
+                    f_squares = f_squares + (f_a[f_i] ? (f_a << f_i) : {F_PW{1'b0}})
+                                          + (f_b[f_i] ? (f_b << f_i) : {F_PW{1'b0}});
+        end
+    endfunction
+    localparam [5:0] F_ALL = W;
+    // the squarer's sums R^2, |E|^2 as it ends them (taken in SUM): the codes
+    // are proven against these (F_CODES), and these equal the partial sums
+    // after W clocks (F_SQUARING, k = W + 1) and so the sums of squares
+    // (F_SQUARE_LEMMA); kept apart so that no task has both the checks and
+    // the squares to solve (together they had not finished in 10 minutes)
+    reg  [SQUARE_W:0] f_sum_r2_q, f_sum_e2_q;
+    always @(posedge clk)
+        if (validator_state_q == STATE_SUM) begin
+            f_sum_r2_q <= radius_square_q;
+            f_sum_e2_q <= end_square_q;
+        end
+    wire f_summed = (validator_state_q >= STATE_CHECK);        // the sums are taken
+`ifdef F_CODES
+    wire [F_PW-1:0] f_slot_r2 = {3'b000, f_sum_r2_q};
+    wire [F_PW-1:0] f_slot_e2 = {3'b000, f_sum_e2_q};
     wire [1:0]      f_slot_err =
-        (f_slot_r2 == {F_PW{1'b0}}) ? 2'd1 : (f_slot_r2 > F_R2_MAX) ? 2'd2
+        (f_axs == {F_PW{1'b0}} && f_ays == {F_PW{1'b0}}) ? 2'd1    // R = 0: S at the centre
+        : (f_slot_r2 > F_R2_MAX) ? 2'd2
         : (f_slot_e2 > f_slot_r2 + f_slot_tol || f_slot_r2 > f_slot_e2 + f_slot_tol) ? 2'd3
         : 2'd0;
 `endif
 
     // the running arc
     reg             f_run_valid, f_run_cw;
-    reg  [F_PW-1:0] f_run_r2;
     reg  [W-1:0]    f_run_xs, f_run_ys;
     reg             f_run_full;                 // start = end: a full circle
     reg  [F_MW-1:0] f_moves;                    // the moves made since the load
     // the arc of the last move (for the registered outputs), the point before
-    reg  [F_PW-1:0] f_out_r2;
     reg  [W-1:0]    f_out_xs, f_out_ys, f_px_d, f_py_d;
     reg             f_out_full;
 
@@ -836,9 +870,6 @@ module halfpoint_arc #(
         f_px_d <= point_x_q;
         f_py_d <= point_y_q;
         if (advance) begin
-`ifdef F_CIRCLE
-            f_out_r2   <= f_run_r2;
-`endif
             f_out_xs   <= f_run_xs;
             f_out_ys   <= f_run_ys;
             f_out_full <= f_run_full;
@@ -863,9 +894,6 @@ module halfpoint_arc #(
             if (load) begin
                 f_run_valid <= 1'b1;
                 f_run_cw    <= f_slot_cw;
-`ifdef F_CIRCLE
-                f_run_r2    <= f_slot_r2;
-`endif
                 f_run_xs    <= f_slot_xs;
                 f_run_ys    <= f_slot_ys;
                 f_run_full  <= (f_slot_xs == f_slot_xe) && (f_slot_ys == f_slot_ye);
@@ -891,7 +919,7 @@ module halfpoint_arc #(
             i_hold:        assert(hold_q == (validator_state_q == STATE_HOLD));
             if (rejecting) begin
                 a_reject_slot: assert(f_slot_valid && !load);
-`ifdef F_SQUARER
+`ifdef F_CODES
                 a_reject_code: assert(f_slot_err != 2'd0 && decide_error == f_slot_err);
 `endif
             end
@@ -900,8 +928,12 @@ module halfpoint_arc #(
                 // a pending arc enters only an idle run stage (never at the
                 // edge of the running arc's last move)
                 a_load_idle:  assert(!run_q && !f_run_valid && !last);
-`ifdef F_SQUARER
+`ifdef F_CODES
                 a_load_ok: assert(f_slot_err == 2'd0);
+                // with a_load_ok (R^2 <= (M-1)(M-2): u^2 + v^2 in range_w8,
+                // the same sum as xs^2 + ys^2, i_uv), what range_w8 assumes
+                // at the load (f_load_range): u >= 1
+                a_load_u: assert(pend_u_q != {W{1'b0}});
 `endif
             end
             // validation: W clocks of squaring, sum, check, decide, init, hold
@@ -922,23 +954,44 @@ module halfpoint_arc #(
         end
 
     // ---- the validator's registers hold the command taken ----
-`ifdef F_SQUARER
-    // F_SQUARE_ASSUMED: the squaring invariants are assumed (proven by the
-    // task square_w8, which asserts them without assuming anything else)
-`ifdef F_SQUARE_ASSUMED
-`define F_SQ assume
-`else
-`define F_SQ assert
-`endif
-    // the shift-and-add register after k clocks: (a >> k) + (a (a mod 2^k) +
-    // b (b mod 2^k)) 2^(W-k)
-    wire [F_PW-1:0] f_mask = ({{(F_PW-1){1'b0}}, 1'b1} << square_count_q) - 1'b1;
-    wire [F_PW-1:0] f_r2_part = (f_axs >> square_count_q)
-        + ((f_axs * (f_axs & f_mask) + f_ays * (f_ays & f_mask)) << (W - square_count_q));
-    wire [F_PW-1:0] f_e2_part = (f_axe >> square_count_q)
-        + ((f_axe * (f_axe & f_mask) + f_aye * (f_aye & f_mask)) << (W - square_count_q));
-    wire [F_PW-1:0] f_r2_reg = {3'b000, radius_square_q};
-    wire [F_PW-1:0] f_e2_reg = {3'b000, end_square_q};
+`ifdef F_SQUARING
+    // The squaring registers after k clocks of squaring (k = W: in SUM): the
+    // multiplicand's bits not yet shifted out, below the partial sums of both
+    // squares, (a >> k) + (a (a mod 2^k) + b (b mod 2^k)) 2^(W-k), and the
+    // multiplier's bits not yet used, b >> k; k = W + 1: from CHECK on, the
+    // sums taken in SUM are the partial sums after W clocks.  One invariant
+    // per k, each with shifts by constants; F_SQUARING_K = j asserts the one for
+    // k = j and assumes the others (one sby task per k: proven together by
+    // induction on the clock, as only the one for the current k is not
+    // vacuous; the single task for all k had not finished in 15 minutes).
+    wire f_sum_state = (validator_state_q == STATE_SUM);
+    genvar f_k;
+    generate
+        for (f_k = 0; f_k <= W + 1; f_k = f_k + 1) begin : g_f_squaring
+            localparam integer F_KS = (f_k > W) ? W : f_k;       // clocks of squaring
+            wire [F_PW-1:0] f_r2_part = (f_axs >> F_KS)
+                + (f_squares(f_axs, f_ays, F_KS) << (W - F_KS));
+            wire [F_PW-1:0] f_e2_part = (f_axe >> F_KS)
+                + (f_squares(f_axe, f_aye, F_KS) << (W - F_KS));
+            wire f_now = f_past_valid && !rst && f_slot_valid
+                         && ((f_square && square_count_q == f_k) || (f_k == W && f_sum_state)
+                             || (f_k == W + 1 && f_summed));
+            wire f_held = (f_k == W + 1)
+                ? ({3'b000, f_sum_r2_q} == f_r2_part && {3'b000, f_sum_e2_q} == f_e2_part)
+                : (({3'b000, radius_square_q} == f_r2_part)
+                   && ({3'b000, end_square_q} == f_e2_part)
+                   && (f_k == W || (multiplier_ys_q == (abs_ys_q >> f_k)
+                                    && multiplier_ye_q == (abs_ye_q >> f_k))));
+            // (unlabelled: Yosys names a label once per module)
+            always @(*)
+                if (f_now) begin
+                    if (f_k == `F_SQUARING_K)
+                        assert(f_held);
+                    else
+                        assume(f_held);
+                end
+        end
+    endgenerate
 `endif
     // the start and end frames, as the README defines them
     wire [1:0]   f_start_quad = quadrant_of(f_slot_cw, f_slot_xs, f_slot_ys);
@@ -960,16 +1013,11 @@ module halfpoint_arc #(
             i_abs_e:    assert(abs_xe_q == magnitude(f_slot_xe)
                                && abs_ye_q == magnitude(f_slot_ye));
             i_end_quad: assert(pend_end_quad_q == f_end_quad);
-`ifdef F_SQUARER
-            if (f_square) begin
-                i_mult_s:   `F_SQ(multiplier_ys_q == (abs_ys_q >> square_count_q));
-                i_mult_e:   `F_SQ(multiplier_ye_q == (abs_ye_q >> square_count_q));
-                i_r2_part:  `F_SQ(f_r2_reg == f_r2_part);
-                i_e2_part:  `F_SQ(f_e2_reg == f_e2_part);
-            end
-            if (validator_state_q == STATE_SUM || validator_state_q == STATE_CHECK) begin
-                i_r2: `F_SQ(f_r2_reg == f_slot_r2);
-                i_e2: `F_SQ(f_e2_reg == f_slot_e2);
+`ifdef F_CODES
+            // in CHECK the squaring registers still hold the sums of SUM
+            if (validator_state_q == STATE_CHECK) begin
+                i_r2: assert(radius_square_q == f_sum_r2_q);
+                i_e2: assert(end_square_q == f_sum_e2_q);
             end
 `endif
             if (f_after0) begin
@@ -980,7 +1028,7 @@ module halfpoint_arc #(
                 i_uv:    assert(pend_u_q == f_pu && pend_v_q == f_pv);
                 i_uve:   assert(pend_ue_q == f_pue && pend_ve_q == f_pve);
             end
-`ifdef F_SQUARER
+`ifdef F_CODES
             if (validator_state_q >= STATE_DECIDE) begin
                 i_too_big: assert(radius_too_big_q == (f_slot_r2 > F_R2_MAX));
                 i_off:     assert((end_outside_q || end_inside_q)
@@ -1074,11 +1122,6 @@ module halfpoint_arc #(
             i_u_pos:    assert(u_q != {W{1'b0}});
             i_u_max:    assert(u_q <= F_MAG_MAX);
             i_v_max:    assert(v_q <= F_MAG_MAX);
-`ifdef F_SQUARER
-            // F on the circle's terms
-            i_run_r2:   assert(f_run_r2 != {F_PW{1'b0}} && f_run_r2 <= F_R2_MAX);
-            a_f_circle: assert(f_fw == {4'b0000, f_u_sq} + {4'b0000, f_v_sq} - f_run_r2);
-`endif
 `ifdef F_LOAD_CIRCLE
             // F on the circle's terms, R^2 taken as u^2 + v^2 of the load
             i_c_r2:     assert(f_load_r2 <= F_R2_MAX);
@@ -1096,9 +1139,11 @@ module halfpoint_arc #(
     // R^2 is taken as u^2 + v^2 of the loaded start point (the same sum of
     // squares as xs^2 + ys^2: u, v are |xs|, |ys| in some order), in 2W-bit
     // products, and the validator's range check R^2 <= (M-1)(M-2) and a
-    // start off the centre (u >= 1) are ASSUMED at the load (the reject
-    // codes are not proven); from them F = u^2 + v^2 - R^2, the bound and
-    // the range 1 <= u <= M - 2, v <= M - 2 are proven together.
+    // start off the centre (u >= 1) are ASSUMED at the load (codes_w8 proves
+    // them there, a_load_ok and a_load_u, against the squarer's sums, which
+    // squaring_k9_w8 and square_w8 prove to be xs^2 + ys^2); from them
+    // F = u^2 + v^2 - R^2, the bound and the range 1 <= u <= M - 2,
+    // v <= M - 2 are proven together.
     reg  [F_PW-1:0] f_load_r2;
     wire [2*W-1:0]  f_pend_u_sq = pend_u_q * pend_u_q;     // 2W bits (the context's)
     wire [2*W-1:0]  f_pend_v_sq = pend_v_q * pend_v_q;
@@ -1186,20 +1231,33 @@ module halfpoint_arc #(
         end
 `endif
 
+`ifdef F_SQUARE_LEMMA
+    // ---- the squares (F_SQUARE_LEMMA, the task square_w8) ----
+    // After W clocks the shift-and-add partial sum of any two W-bit
+    // magnitudes is the sum of their squares: the link from the linear sums
+    // of F_CODES to R^2 = xs^2 + ys^2, |E|^2 = xe^2 + ye^2 and to range_w8's
+    // u^2 + v^2.  A property of free constants, so a bounded check of its
+    // first step proves it for every value (the rest of the monitor is idle
+    // under rst there).
+    (* anyconst *) reg [W-1:0] f_lemma_a, f_lemma_b;
+    wire [F_PW-1:0] f_lemma_aw = {{(F_PW-W){1'b0}}, f_lemma_a};
+    wire [F_PW-1:0] f_lemma_bw = {{(F_PW-W){1'b0}}, f_lemma_b};
+    always @(*)
+        a_squares: assert(f_squares(f_lemma_aw, f_lemma_bw, F_ALL)
+                          == f_lemma_aw * f_lemma_aw + f_lemma_bw * f_lemma_bw);
+`endif
+
     // ---- registered outputs: one step per axis per move, in its direction ----
     wire [W-1:0]    f_dx = x - f_px_d;
     wire [W-1:0]    f_dy = y - f_py_d;
     wire [F_PW-1:0] f_ax = f_wide(x), f_ay = f_wide(y);
     wire [F_PW-1:0] f_fo = {{(F_PW-DATA_W){f[DATA_W-1]}}, f};
-    wire [W-1:0]    f_ax_m = f_ax[W-1:0], f_ay_m = f_ay[W-1:0];
-    wire [2*W-1:0]  f_x_sq = f_ax_m * f_ax_m;
-    wire [2*W-1:0]  f_y_sq = f_ay_m * f_ay_m;
     always @(posedge clk)
         if (f_past_valid && !$past(rst) && !rst) begin
             a_move:   assert(move == $past(advance));
             a_done:   assert(done == $past(last));
             a_reject: assert(reject == $past(rejecting));
-`ifdef F_SQUARER
+`ifdef F_CODES
             if (reject) begin
                 a_err_code: assert(err_code == $past(f_slot_err));
             end
@@ -1217,11 +1275,6 @@ module halfpoint_arc #(
                 a_step_y: assert(step_y ? (f_dy == (dir_y ? ONE_W : {W{1'b1}}))
                                         : (f_dy == {W{1'b0}}));
                 a_step_any: assert(step_x || step_y);
-`ifdef F_RUN_CIRCLE
-`ifdef F_SQUARER
-                a_out_circle: assert(f_fo == {4'b0000, f_x_sq} + {4'b0000, f_y_sq} - f_out_r2);
-`endif
-`endif
 `ifdef F_OUT_BOUND
                 a_out_low:    assert($signed(f_fo) >= -$signed(f_ax + f_ay));
                 a_out_high:   assert($signed(f_fo) < $signed(f_ax + f_ay));

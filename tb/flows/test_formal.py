@@ -3,8 +3,9 @@
 from the venv only, and a broken step generator (steplen off by one, made
 from the real RTL by a textual edit) fails the proof with a VCD trace, as
 do a line unit that takes a command while it holds one (one is lost), a
-profile stage whose speed rises by twice its acceleration and a core that
-takes a beat while its queue is full.
+profile stage whose speed rises by twice its acceleration, a core that
+takes a beat while its queue is full and an arc unit that gives an end off
+the circle the wrong reject code.
 The full set (all tasks, every mutant) is `make formal`."""
 
 from __future__ import annotations
@@ -155,3 +156,13 @@ def test_arc_termination_mutant_breaks_the_proof(tmp_path):
     assert any(f.startswith("i_e_armed") for f in r.failed), r.failed
     assert not formal.Result("x", status="PASS", expect="NOPROOF").ok
     assert not formal.Result("x", status="UNKNOWN", expect="FAIL").ok
+
+
+def test_arc_wrong_reject_code_fails_with_trace(tmp_path):
+    """An end off the circle rejected with code 2 instead of 3: the bounded
+    check of the reject codes (codesbmc_w8, the codes against the squarer's
+    sums) fails with a trace on a_reject_code."""
+    m = next(m for m in formal.MUTANTS if m.name == "arc_code_for_too_big")
+    (r,) = formal.run_mutant(m, tmp_path / "mut")
+    assert r.status == "FAIL" and r.ok and r.traces, r
+    assert any(f.startswith("a_reject_code") for f in r.failed), r.failed

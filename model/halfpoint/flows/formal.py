@@ -178,6 +178,23 @@ MUTANTS = [
            "an armed arc leaves its end's quadrant by a B move without stopping (it "
            "may circle on)",
            "NOPROOF"),
+    Mutant("arc_square_wrong_bit", "halfpoint_arc", "rtl/halfpoint_arc.v",
+           "(p[0] ? {2'b00, a} : {(W+2){1'b0}})", "(p[1] ? {2'b00, a} : {(W+2){1'b0}})",
+           ("squaring_k1_w8",),
+           "the squarer adds |xs| for the multiplicand's next bit instead of its current one "
+           "(R^2 no longer xs^2 + ys^2; its induction step fails, the base case is reset)",
+           "NOPROOF"),
+    Mutant("arc_check_off_by_one", "halfpoint_arc", "rtl/halfpoint_arc.v",
+           "(second[CHECK_W-2:0] & third[CHECK_W-2:0])), 1'b1};",
+           "(second[CHECK_W-2:0] & third[CHECK_W-2:0])), 1'b0};",
+           ("codesbmc_w8",),
+           "the end-point check's carry-save compare one short (a - b > t + 1): an end "
+           "just off the circle accepted"),
+    Mutant("arc_code_for_too_big", "halfpoint_arc", "rtl/halfpoint_arc.v",
+           ": (end_outside_q || end_inside_q) ? 2'd3 : 2'd0;",
+           ": (end_outside_q || end_inside_q) ? 2'd2 : 2'd0;",
+           ("codesbmc_w8",),
+           "an end off the circle rejected with code 2 (circle too big) instead of 3"),
     Mutant("profile_cadence_early", "halfpoint_profile", "rtl/halfpoint_profile.v",
            "since_q     <= {DIV{1'b0}};", "since_q     <= SINCE_ONE;",
            ("bmc_div2",),
