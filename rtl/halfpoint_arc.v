@@ -741,6 +741,8 @@ module halfpoint_arc #(
     //              of the edge before;
     //   ends       (F_RUN_ENDS) termination: every arc stops within 5 * 2^W
     //              moves, under the assumed range (see the block below);
+    //              F_ENDS_R: within 5 (2 floor(R) + 2) + 1 moves, from the
+    //              circle and the bound;
     //   range      (F_LOAD_CIRCLE with F_RUN_CIRCLE) the circle, the bound and
     //              the range proven, the validator's radius checks assumed at
     //              the load and the increments one clock late (see below);
@@ -1229,6 +1231,39 @@ module halfpoint_arc #(
                                            + f_quadrant_moves);
             a_ends:      assert(f_moves < ({{(F_MW-3){1'b0}}, 3'd5} << W));
         end
+`ifdef F_ENDS_R
+    // ---- termination within the documented bound in R (F_ENDS_R) ----
+    // With the circle and the bound (range_w8 proves them; assumed here),
+    // u^2 - u < R^2 + v - v^2 <= R^2 < (r + 1)^2 for r = floor(R), so u and
+    // v stay at most r + 1.  A quadrant left by a crossing (from u = 1) takes
+    // at most (u_entry - 1) + (v - v_entry) <= 2r + 1 moves and the crossing
+    // one more; so an arc with at most four crossings makes at most
+    // 4 (2r + 2) + 2r + 1 moves, within the documented 5 (2 floor(R) + 2) + 1.
+    // r is taken at the load as any value with r^2 <= R^2 < (r + 1)^2 (that
+    // is floor(R), the only such value).
+    (* anyseq *) reg [W-1:0] f_any_root;
+    reg  [W-1:0]    f_root;                     // floor(R) of the running arc
+    wire [F_PW-1:0] f_any_root_w = {{(F_PW-W){1'b0}}, f_any_root};
+    always @(*)
+        if (f_past_valid && !rst && load)
+            f_root_load: assume(f_any_root_w * f_any_root_w <= f_pend_r2
+                                && f_pend_r2 < (f_any_root_w + 1'b1) * (f_any_root_w + 1'b1));
+    always @(posedge clk)
+        if (load) f_root <= f_any_root;
+    wire [F_MW-1:0] f_root_m    = {{(F_MW-W){1'b0}}, f_root};
+    wire [F_MW-1:0] f_per_cross = (f_root_m << 1) + 2'd2;                  // 2r + 2
+    wire [F_MW-1:0] f_crossed   = f_per_cross * {{(F_MW-3){1'b0}}, f_crossings};
+    wire [F_MW-1:0] f_documented = f_per_cross * 3'd5 + 1'b1;             // 5 (2r + 2) + 1
+    always @(*)
+        if (f_past_valid && !rst && run_q) begin
+            i_r_root:    assert(f_load_r2 < (({{(F_PW-W){1'b0}}, f_root} + 1'b1)
+                                             * ({{(F_PW-W){1'b0}}, f_root} + 1'b1)));
+            i_r_u:       assert(u_q <= f_root + 1'b1 && v_q <= f_root + 1'b1);
+            i_r_entry:   assert(f_u_entry <= f_root + 1'b1);
+            i_r_count:   assert(f_moves <= f_crossed + f_quadrant_moves);
+            a_ends_r:    assert(f_moves < f_documented);
+        end
+`endif
 `endif
 
 `ifdef F_SQUARE_LEMMA
