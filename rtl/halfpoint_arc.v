@@ -743,6 +743,8 @@ module halfpoint_arc #(
     //              moves, under the assumed range (see the block below);
     //              F_ENDS_R: within 5 (2 floor(R) + 2) + 1 moves, from the
     //              circle and the bound;
+    //   stop rule  (F_STOP_RULE) the end test is the documented rule, its
+    //              look-ahead flags tied to u, v and the end point;
     //   range      (F_LOAD_CIRCLE with F_RUN_CIRCLE) the circle, the bound and
     //              the range proven, the validator's radius checks assumed at
     //              the load and the increments one clock late (see below);
@@ -1264,6 +1266,70 @@ module halfpoint_arc #(
             a_ends_r:    assert(f_moves < f_documented);
         end
 `endif
+`endif
+
+`ifdef F_STOP_RULE
+    // ---- the end test is the documented rule (F_STOP_RULE, the task stop_w8) ----
+    // README, "Termination contract": in E's quadrant E = (ue, ve) is given the
+    // order (v, -u) if ve <= ue, else (-u, v); a point is past E when it is in
+    // E's quadrant and not before E in that order; an armed arc stops after the
+    // first move that reaches a point past E or leaves E's quadrant.  The run
+    // stage decides this from look-ahead flags kept one clock ahead; here the
+    // flags are tied to u, v and E (i_s_*), and the stop to the rule (a_stop).
+    localparam [W:0] F_MAG_HALF = {2'b01, {(W-1){1'b0}}};   // 2^(W-1)
+    wire [W-1:0] f_ue_w = ue_plus1_q - ONE_W;              // E in its quadrant's frame
+    wire [W-1:0] f_ve_w = ve_minus2_q + 2'd2;              // (modulo 2^W, as kept)
+    wire [W:0] f_ue  = {1'b0, f_ue_w};
+    wire [W:0] f_ve  = {1'b0, f_ve_w};
+    wire [W:0] f_u   = {1'b0, u_q};
+    wire [W:0] f_v   = {1'b0, v_q};
+    wire [W:0] f_un  = {1'b0, u_n};                        // the point after the move
+    wire [W:0] f_vn  = {1'b0, v_n};
+    wire       f_first = (f_ve <= f_ue);
+    wire       f_past_n = (quad_n == end_quad_q)
+        && (f_first ? (f_vn > f_ve || (f_vn == f_ve && f_un <= f_ue))
+                    : (f_un < f_ue || (f_un == f_ue && f_vn >= f_ve)));
+    wire       f_leaves = (quad_q == end_quad_q) && (quad_n != end_quad_q);
+    // the pending slot's flags, against its u, v and E
+    wire [W:0] f_pu_w = {1'b0, pend_u_q}, f_pv_w = {1'b0, pend_v_q};
+    wire [W:0] f_pue_w = {1'b0, pend_ue_q}, f_pve_w = {1'b0, pend_ve_q};
+    always @(*)
+        if (f_past_valid && !rst && f_slot_valid && f_after1) begin
+            i_s_p_first: assert(pend_first_octant_q == (f_pve_w <= f_pue_w)
+                                && f_pue_w <= F_MAG_HALF && f_pve_w <= F_MAG_HALF);
+            i_s_p_const: assert(pend_ve_zero_q == (f_pve_w == 0) && pend_ve_one_q == (f_pve_w == 1)
+                                && pend_ue_zero_q == (f_pue_w == 0)
+                                && pend_ue_one_q == (f_pue_w == 1));
+            i_s_p_v:     assert(pend_v_gt_ve_q == (f_pv_w > f_pve_w)
+                                && pend_v_eq_ve_q == (f_pv_w == f_pve_w)
+                                && pend_u_lt_ue_q == (f_pu_w < f_pue_w)
+                                && pend_u_eq_ue_q == (f_pu_w == f_pue_w)
+                                && pend_v_lt_ue_q == (f_pv_w < f_pue_w)
+                                && pend_v_eq_ue_q == (f_pv_w == f_pue_w));
+        end
+    always @(*)
+        if (f_past_valid && !rst && f_slot_valid && f_after2)
+            i_s_p_plus1: assert(pend_v_plus1_eq_ve_q == (f_pv_w + 1'b1 == f_pve_w)
+                                && pend_u_eq_ue_plus1_q == (f_pu_w == f_pue_w + 1'b1)
+                                && pend_v_plus1_eq_ue_q == (f_pv_w + 1'b1 == f_pue_w));
+    always @(*)
+        if (f_past_valid && !rst && run_q) begin
+            // E's magnitudes are at most 2^(W-1) (no wrap in ue + 1, ue + 2)
+            i_s_e:       assert(f_ue <= F_MAG_HALF && f_ve <= F_MAG_HALF);
+            i_s_const:   assert(ue_plus2_q == f_ue[W-1:0] + 2'd2
+                                && ue_minus2_q == f_ue[W-1:0] - 2'd2
+                                && ve_zero_q == (f_ve == 0) && ve_one_q == (f_ve == 1)
+                                && ue_zero_q == (f_ue == 0) && ue_one_q == (f_ue == 1)
+                                && first_octant_q == f_first);
+            i_s_v:       assert(v_gt_ve_q == (f_v > f_ve) && v_eq_ve_q == (f_v == f_ve)
+                                && v_plus1_eq_ve_q == (f_v + 1'b1 == f_ve));
+            i_s_u:       assert(u_lt_ue_q == (f_u < f_ue) && u_eq_ue_q == (f_u == f_ue)
+                                && u_eq_ue_plus1_q == (f_u == f_ue + 1'b1));
+            i_s_vu:      assert(v_lt_ue_q == (f_v < f_ue) && v_eq_ue_q == (f_v == f_ue)
+                                && v_plus1_eq_ue_q == (f_v + 1'b1 == f_ue));
+            if (advance)
+                a_stop:  assert(last == (armed_q && (f_past_n || f_leaves)));
+        end
 `endif
 
 `ifdef F_SQUARE_LEMMA

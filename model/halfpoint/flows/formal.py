@@ -178,6 +178,20 @@ MUTANTS = [
            "an armed arc leaves its end's quadrant by a B move without stopping (it "
            "may circle on)",
            "NOPROOF"),
+    Mutant("arc_stop_misses_axis_end", "halfpoint_arc", "rtl/halfpoint_arc.v",
+           "(ve_zero_q && (v_lt_ue_q || v_eq_ue_q)) : v_lt_ue_q;",
+           "(ve_zero_q && v_lt_ue_q) : v_lt_ue_q;",
+           ("stop_w8",),
+           "a B move entering the end's quadrant exactly on an end on the axis does not "
+           "stop (the arc runs past it)",
+           "NOPROOF"),
+    Mutant("arc_flag_after_crossing", "halfpoint_arc", "rtl/halfpoint_arc.v",
+           "wire v_eq_ve_n       = crossing ? ve_zero_q",
+           "wire v_eq_ve_n       = crossing ? ve_one_q",
+           ("stop_w8",),
+           "the look-ahead flag v = ve wrong after a quadrant crossing (v' = 0 taken as "
+           "v' = 1)",
+           "NOPROOF"),
     Mutant("arc_square_wrong_bit", "halfpoint_arc", "rtl/halfpoint_arc.v",
            "(p[0] ? {2'b00, a} : {(W+2){1'b0}})", "(p[1] ? {2'b00, a} : {(W+2){1'b0}})",
            ("squaring_k1_w8",),
