@@ -10,7 +10,7 @@ import pytest
 
 from halfpoint.flows.soak import main, make_batch, report, soak
 from halfpoint.flows.simspeed import (
-    check_holds, harness_binary, model_run, run_harness, write_vectors,
+    check_intervals, harness_binary, model_run, run_harness, write_vectors,
 )
 
 SEED = 5
@@ -85,10 +85,10 @@ def test_harness_keeps_the_stream_gaps(tmp_path):
 
 def test_bad_holds_are_refused():
     with pytest.raises(ValueError, match="disjoint"):
-        check_holds([(10, 20), (20, 30)])
+        check_intervals([(10, 20), (20, 30)])
     with pytest.raises(ValueError, match="non-empty"):
-        check_holds([(5, 5)])
-    assert check_holds([(30, 40), (1, 2)]) == [(1, 2), (30, 40)]
+        check_intervals([(5, 5)])
+    assert check_intervals([(30, 40), (1, 2)]) == [(1, 2), (30, 40)]
 
 
 def test_parts_cover_the_whole_run(passed, capsys):

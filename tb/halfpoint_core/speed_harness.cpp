@@ -178,9 +178,9 @@ int main(int argc, char** argv) {
             int64_t idx = 0, nm = 0, ne = 0, cyc = 0, hi = 0;
             int idle = 0;
             // the hold input changes at these clocks only (the intervals are sorted,
-            // disjoint and apart: simspeed.check_holds)
+            // disjoint and apart: simspeed.check_intervals)
             int64_t hold_edge = nhold ? hold[0] : INT64_MAX;
-            // the same for the stream gaps (simspeed.check_holds)
+            // the same for the stream gaps (simspeed.check_intervals)
             int64_t gi = 0, gap_edge = ngap ? stream_gap[0] : INT64_MAX;
             bool in_gap = false;
             bool loaded = false;            // a beat offered and not taken yet

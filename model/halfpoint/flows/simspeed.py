@@ -132,11 +132,11 @@ def model_run(batch: Batch) -> Expected:
     return Expected(run.times, run.trace, run.errors, run.clocks, run.dry, run.underrun)
 
 
-def check_holds(holds, what: str = "hold") -> list:
-    """The holds (or stream gaps) as the harness needs them: sorted, each non-empty,
-    disjoint and not touching (the harness switches hold, or the gap, at the interval
-    edges only)."""
-    out = sorted((int(a), int(b)) for a, b in holds)
+def check_intervals(intervals, what: str = "hold") -> list:
+    """Hold intervals or stream gaps as the harness needs them: sorted, each
+    non-empty, disjoint and not touching (the harness switches hold, or tvalid, at
+    the interval edges only)."""
+    out = sorted((int(a), int(b)) for a, b in intervals)
     for (a, b), nxt in zip(out, out[1:] + [None]):
         if not 0 <= a < b or (nxt is not None and nxt[0] <= b):
             raise ValueError(f"{what} intervals must be non-empty, disjoint and apart: {out}")
@@ -146,8 +146,8 @@ def check_holds(holds, what: str = "hold") -> list:
 def batch_words(batch_id: int, batch: Batch, exp: Expected) -> array:
     """One batch of the vector file (format: the harness's header comment)."""
     mask = (1 << 64) - 1
-    holds = check_holds(batch.holds)
-    gaps = check_holds(batch.stream_gaps, "stream gap")
+    holds = check_intervals(batch.holds)
+    gaps = check_intervals(batch.stream_gaps, "stream gap")
     w = array("Q", [batch_id, len(batch.cmds), len(exp.times), len(exp.errors), len(holds),
                     len(gaps), exp.clocks, exp.dry, exp.underrun, batch.override, batch.gap])
     cfg = batch.settings()
