@@ -747,7 +747,8 @@ module halfpoint_arc #(
     //              look-ahead flags tied to u, v and the end point;
     //   range      (F_LOAD_CIRCLE with F_RUN_CIRCLE) the circle, the bound and
     //              the range proven, the validator's radius checks assumed at
-    //              the load and the increments one clock late (see below);
+    //              the load (codes, squaring and squares prove them) and the
+    //              increments one clock late (see below);
     //   codes      (F_CODES) the reject codes against the squarer's sums as it
     //              ends them (taken in SUM): each check, the code given, and
     //              at the load what range_w8 assumes there (with a_load_ok);
@@ -760,6 +761,10 @@ module halfpoint_arc #(
     //              against xs^2 + ys^2 and xe^2 + ye^2;
     // Labels: a_* the contract, i_* invariants that tie the validator's
     // registers and the run stage to the monitor so that k-induction closes.
+    // The tasks of codes, squaring, F_ENDS_R and the stop rule assert their
+    // own labels only; the sby file turns every other assertion into an
+    // assumption (Yosys chformal), each proven by a task that does not
+    // assume them.
     // rst, en, start_en and abort_now are free (rst high on the first clock).
     // F_PROTOCOL_ONLY leaves out the run stage's invariants (a quick proof).
     // F_INCREMENTS_ASSUMED (the task bound_w8): the run stage's increment
