@@ -20,8 +20,8 @@
 // has room (its count before the edge: no path from the pacing back to the
 // interpolators), each entry the axes stepped, their directions, the move's
 // cost class (axis move, diagonal arc move, line iteration) and whether it is
-// its segment's last.  A unit's pending segment starts at the edge of the
-// other's last move (no idle clock at a boundary when it was validated in time).
+// its segment's last.  A unit's pending segment starts when the other is not running
+// (no end test in front of a load: an arc-line boundary costs a clock the move queue hides).
 // A motion command is handed to its unit only while the profile queue
 // (PROFILE_DEPTH entries) has room; its profile and CONT flag enter that queue
 // once the unit has validated it, long before its first move, so that the
@@ -547,7 +547,7 @@ module halfpoint_core #(
         .reject    (arc_reject),
         .err_code  (arc_error),
         .abort_now (flush),
-        .start_en  (!line_run || line_ending),
+        .start_en  (!line_run),
         .running   (arc_run),
         .pending   (arc_pending),
         .loading   (arc_loading),
@@ -575,7 +575,7 @@ module halfpoint_core #(
         .reject    (line_reject),
         .err_code  (line_error),
         .abort_now (flush),
-        .start_en  (!arc_run || arc_ending),
+        .start_en  (!arc_run),
         .running   (line_run),
         .pending   (line_pending),
         .loading   (line_loading),

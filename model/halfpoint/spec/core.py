@@ -28,9 +28,12 @@ Data path, clock by clock (issue 13: the interpolators decoupled from the pacing
   profile stage knows the next segment is coming as soon as it is known to be
   good, long before its first move (an arc the validator rejects never enters).
 * Interpolators: a unit may start its pending segment when the other unit is idle
-  or making its last move at this edge.  The running unit makes a move on every edge at which the move queue
-  has room (its count before the edge, so the interpolators never wait for the
-  pacing in the same clock); the move enters the queue with its steps, its cost
+  (not running before the edge: a boundary between an arc and a line costs the
+  interpolators one clock, which the move queue hides; the other unit's last move
+  does not feed the start, so no end test lies in front of a load).  The running
+  unit makes a move on every edge at which the move queue has room (its count
+  before the edge, so the interpolators never wait for the pacing in the same
+  clock); the move enters the queue with its steps, its cost
   class (axis move, diagonal arc move, line iteration) and whether it is its
   segment's last.
 * Profile stage (``spec.profile.ProfileStage``, the one definition of the pacing):
@@ -448,8 +451,8 @@ class CoreModel:
             self.pend_cont = head.cmd[2]
 
     def _clock_units(self, head: HeadView) -> tuple[str | None, QueuedMove | None]:
-        """Clock both units, the running one first: its last move at this edge lets
-        the other start its pending segment on the same edge.  Returns (the unit that
+        """Clock both units, the running one first (a unit starts its pending segment
+        only when the other was not running before the edge).  Returns (the unit that
         started a segment, the move made at this edge)."""
         running = self._running()
         produce = len(self.moves) < self.move_depth
@@ -460,11 +463,10 @@ class CoreModel:
         if running is not None and produce:
             steps, cls = self._peek(running)
             move = QueuedMove(steps, cls, False)
-        ending = False
         loading = None
         order = ["arc", "line"] if running != "line" else ["line", "arc"]
         for u in order:
-            other_idle_or_ending = (running is None) or (running == u) or ending
+            other_idle = (running is None) or (running == u)
             offer = head.take == u
             if u == "arc":
                 model, hold = self.arc, V_HOLD
@@ -478,11 +480,10 @@ class CoreModel:
                 inp = LineInputs(s_valid=1, s_delta=head.cmd[1]) if offer \
                     else LineInputs(s_delta=(0,) * self.axes)
             inp.en = int(produce and running == u)
-            inp.start_en = int(other_idle_or_ending)
+            inp.start_en = int(other_idle)
             holding = model.vstate == hold
             model.clock(inp)
             if running == u and move is not None and model.outputs().done:
-                ending = True
                 move.last = True
             if holding and model.vstate != hold:
                 loading = u
