@@ -108,15 +108,22 @@ module halfpoint_stepgen #(
     assign ready_neg = !dir_q ? ready_same : ready_flip;
     assign busy      = !in_low;
 
-    wire take = req && in_low && (req_dir ? ready_pos : ready_neg);
-    wire flip = take && (req_dir != dir_q);
+    // Whether a request is taken, and the state after it, come from registers and
+    // settings alone; the request (which the core's pop decides late in the
+    // clock) meets them only in the last select of each next value
+    wire take_ok = in_low && (req_dir ? ready_pos : ready_neg);
+    wire take = req && take_ok;
+    // a take that reverses DIR with a setup time waits in SETUP first
+    wire          take_setup = (req_dir != dir_q) && (cfg_dirsetup != {TW{1'b0}});
+    wire [1:0]    state_take = take_setup ? STATE_SETUP : STATE_HIGH;
+    wire [TW-1:0] count_take = take_setup ? cfg_dirsetup : step_length;
 
-    // next state
-    reg  [1:0]    state_n;
-    reg  [TW-1:0] count_n, low_time_n;
+    // next state without a take
+    reg  [1:0]    state_idle;
+    reg  [TW-1:0] count_idle, low_time_n;
     always @(*) begin
-        state_n = state_q;
-        count_n    = count_q;
+        state_idle = state_q;
+        count_idle = count_q;
         low_time_n = low_time_q;
         case (state_q)
             STATE_LOW: begin
@@ -126,35 +133,29 @@ module halfpoint_stepgen #(
                 if (low_time_q != MAX_T) begin
                     low_time_n = low_time_q + ONE_T;
                 end
-                if (take) begin
-                    if (flip && cfg_dirsetup != {TW{1'b0}}) begin
-                        state_n = STATE_SETUP;
-                        count_n = cfg_dirsetup;
-                    end else begin
-                        state_n = STATE_HIGH;
-                        count_n = step_length;
-                    end
-                end
             end
             STATE_SETUP: begin
                 if (count_q <= ONE_T) begin
-                    state_n = STATE_HIGH;
-                    count_n = step_length;
+                    state_idle = STATE_HIGH;
+                    count_idle = step_length;
                 end else begin
-                    count_n = count_q - ONE_T;
+                    count_idle = count_q - ONE_T;
                 end
             end
             default: begin   // STATE_HIGH
                 if (count_q <= ONE_T) begin
-                    state_n = STATE_LOW;
+                    state_idle = STATE_LOW;
                     low_time_n = ONE_T;
                 end else begin
-                    count_n = count_q - ONE_T;
+                    count_idle = count_q - ONE_T;
                 end
             end
         endcase
     end
-    wire dir_n = take ? req_dir : dir_q;
+    wire [1:0]    state_n = take ? state_take : state_idle;
+    wire [TW-1:0] count_n = take ? count_take : count_idle;
+    wire          dir_n = take ? req_dir : dir_q;
+    wire          step_n = take ? !take_setup : (state_idle == STATE_HIGH);
 
     // low_time_n >= stepspace and >= dirhold (registered below), each compare
     // from registers and settings, with the state selecting last: in LOW
@@ -199,7 +200,7 @@ module halfpoint_stepgen #(
             space_ok_q <= space_ok_n;
             hold_ok_q  <= hold_ok_n;
             // pins are registered copies of the next state, with polarity
-            step_pin <= (state_n == STATE_HIGH) ^ cfg_step_inv;
+            step_pin <= step_n ^ cfg_step_inv;
             dir_pin  <= dir_n ^ cfg_dir_inv;
         end
     end

@@ -44,6 +44,11 @@ CONFIGS = [
     # testing: no other setting tells them apart)
     StepCfg(1, 3, 0, 2),
     StepCfg(0, 4, 2, 5, 0, 1),
+    # dirhold 2 or 3 above a stepspace of at most 1: a reversal waits for dirhold
+    # after a pulse, a step in the same direction does not (found by mutation
+    # testing: no other setting has the HIGH state's end decide by dirhold alone)
+    StepCfg(2, 1, 0, 3, 0, 1),
+    StepCfg(1, 0, 1, 2, 1, 0),
 ]
 
 
@@ -67,12 +72,15 @@ async def run_config(dut, cfg: StepCfg, rng: random.Random, nsteps: int, idle: f
     # reset both
     dut.rst.value, dut.req.value, dut.req_dir.value = 1, 0, 0
     model.clock(cfg, StepInputs(rst=1))
-    await FallingEdge(dut.clk)
-    await FallingEdge(dut.clk)
     # in reset: pins at their idle levels (the inversions), ready (found by
-    # mutation testing: a wrong reset value shows for one clock only)
-    got = {k: int(getattr(dut, k).value) for k in FIELDS}
-    assert got == {k: expected(model, cfg)[k] for k in FIELDS}, f"in reset: {got}"
+    # mutation testing: a wrong reset value shows for one clock only, and a pin
+    # that ignored the reset would show the last configuration's DIR after the
+    # first reset edge only)
+    for edge in ("first", "second"):
+        await FallingEdge(dut.clk)
+        got = {k: int(getattr(dut, k).value) for k in FIELDS}
+        assert got == {k: expected(model, cfg)[k] for k in FIELDS}, \
+            f"in reset, after the {edge} edge: {got}"
     dut.rst.value = 0
     model.clock(cfg, StepInputs(rst=1))
     # a random step sequence with runs of equal direction
