@@ -132,5 +132,62 @@ def test_equivalents_match_the_current_netlist(module):
     target = mutate.TARGETS[module]
     mutations = mutate.generate(target, mutate.DEFAULT_COUNT, 1,
                                 BUILD / "test_mutate" / "equivalents" / module)
-    listed = mutate.equivalent_for(target, 1, mutate.load_equivalent())
-    assert not mutate.unmatched_listed(listed, [m.command for m in mutations]), module
+    _, stale = mutate.match_target(target, 1, mutate.load_equivalent(), mutations)
+    assert not stale, module
+
+
+def test_stable_sample_moves_only_where_the_rtl_changes():
+    """The stable sample (the core's) names each mutation by the text of its source
+    lines, so lines added elsewhere leave it unchanged; a changed line redraws only
+    its own mutants, each replaced by exactly one other."""
+    texts = {"a.v": ["module a;", "assign x = p & q;", "assign y = r | s;", "endmodule"]}
+    shifted = {"a.v": ["module a;", "// a new comment", "assign x = p & q;",
+                       "assign y = r | s;", "endmodule"]}
+    changed = {"a.v": ["module a;", "assign x = p ^ q;", "assign y = r | s;", "endmodule"]}
+
+    def commands(first: int, cell: int) -> list[str]:
+        out = []
+        for line, name in ((first, "and"), (first + 1, "or")):
+            for mode in ("inv", "const0", "const1"):
+                for bit in range(4):
+                    out.append(f"mutate -mode {mode} -module a -cell ${name}$rtl/a.v:{line}"
+                               f"${cell + line} -port Y -portbit {bit} "
+                               f"-src rtl/a.v:{line}.8-{line}.17")
+        return out
+
+    base = mutate.select_stable(commands(2, 10), 4, 1, texts)
+    assert len(base) == 4 and len(set(base)) == 4
+    # other line numbers and other automatic numbers: the same mutations
+    moved = mutate.select_stable(commands(3, 50), 4, 1, shifted)
+    assert [mutate.stable_key(c, shifted) for c in moved] == \
+        [mutate.stable_key(c, texts) for c in base]
+    # one bit per group (mode, cell, port): spread over the cells, not the bits
+    groups = {re.sub(r" -portbit \d+", "", c) for c in mutate.select_stable(
+        commands(2, 10), 6, 1, texts)}
+    assert len(groups) == 6
+    # the changed line's mutants are drawn anew; the other line's stay
+    again = mutate.select_stable(commands(2, 10), 4, 1, changed)
+    kept = [c for c in base if "$or$" in c]
+    assert all(c in again for c in kept)
+    assert {mutate.stable_key(c, changed) for c in again if "$and$" in c}.isdisjoint(
+        {mutate.stable_key(c, texts) for c in base if "$and$" in c})
+
+
+def test_stable_entries_match_by_key(tmp_path):
+    """A stable target's entry matches by its key, wherever its lines now sit, and an
+    entry without a key is refused."""
+    target = mutate.TARGETS["halfpoint_core"]
+    assert target.stable
+    texts = {"halfpoint_core.v": ["x", "assign y = a & b;"]}
+    cmd = "mutate -mode inv -module m -cell $and$rtl/halfpoint_core.v:2$7 -port Y -portbit 0"
+    moved = "mutate -mode inv -module m -cell $and$rtl/halfpoint_core.v:3$9 -port Y -portbit 0"
+    key = mutate.stable_key(cmd, texts)
+    entry = {"module": target.module, "parameters": target.parameters, "seed": 1,
+             "mutation": cmd, "key": key, "reason": "r"}
+    now = [mutate.Mutation(1, moved, key=mutate.stable_key(
+        moved, {"halfpoint_core.v": ["x", "// new", "assign y = a & b;"]}))]
+    assert mutate.match_target(target, 1, [entry], now) == ({moved: "r"}, [])
+    gone = [mutate.Mutation(1, moved, key="other")]
+    assert mutate.match_target(target, 1, [entry], gone) == ({}, [cmd])
+    with pytest.raises(ValueError):
+        mutate.match_target(target, 1, [{**entry, "key": ""}], now)

@@ -806,6 +806,74 @@ async def arc_count_bits(dut):
     assert [c for _, c in bench.errors] == [enc.E_HELIX_COUNT] * flipped
 
 
+@cocotb.test()
+async def dispatch_and_burst(dut):
+    """Two cases the other tests miss, every clock compared with the model.  An arc
+    with a reserved bit set (E_OPCODE) reaches the queue head while an arc profile is
+    in force and the arc unit and the profile queue are free: it is rejected and
+    must not reach the arc unit.  And two moves pop on consecutive clocks across a
+    segment boundary: the X generator is slow (steplen 12, stepspace 8), so the credit
+    reaches its cap while the first line waits on it; the last X move pops, and the
+    next line's first move, on Y (idle, ready), pops on the next clock, when the move
+    queue holds one move and the line unit makes one at the same edge (the head after
+    that pop is the move made, not the memory's stale entry)."""
+    bind(dut)
+    slow = [StepCfg(12, 8, 0, 0)] + [StepCfg(1, 0, 0, 0)] * (NA - 1)
+    bench = new_bench(dut, cfg=slow, seed=SEED + 16)
+    await bench.start()
+    base = enc.encode_arc(1, 0, -3, 3, -3)
+    bad = next(base ^ (1 << b) for b in range(4, enc.CMD_BITS)
+               if decode_for_core(base ^ (1 << b), NA, W) == ("err", enc.E_OPCODE))
+    fast = (ONE * 7) // 8
+    prog = profiled([base, bad, base,
+                     enc.encode_line([5] + [0] * (NA - 1)),
+                     enc.encode_line([0, 5] + [0] * (NA - 2))],
+                    NA, W, DIV, v_cruise=fast, accel=(1 << 34) - 1, junction=fast)
+    # the arc profile again just before the bad arc: the profile queue, which the
+    # first arc's profile filled as its run started, has room again when it arrives
+    prog.insert(prog.index(bad), prog[0])
+    pops = []
+
+    async def watch():
+        while True:
+            await FallingEdge(dut.clk)
+            last = getattr(bench, "last", None)
+            if last is not None and last["move"]:
+                pops.append((bench.cycle, tuple(last["pos"][:2])))
+
+    cocotb.start_soon(watch())
+    await bench.send(prog)
+    await bench.drain()
+    check_end(bench, prog)
+    assert [c for _, c in bench.errors] == [enc.E_OPCODE]
+    # the arcs end at (3, -3) and (6, -6), the lines at (11, -6) and (11, -1): the
+    # last X move and the first Y move seen on consecutive clocks
+    first_y = pops.index(next(p for p in pops if p[1] == (11, -5)))
+    assert pops[first_y - 1][1] == (11, -6)
+    assert pops[first_y][0] == pops[first_y - 1][0] + 1, "no pop burst across the boundary"
+
+
+@cocotb.test(skip=not FAR)
+async def far_arc_count(dut):
+    """A full circle of more than 2^15 moves with its exact count: bit 15 of the
+    count set, so each lower bit must be carried exactly for the count check to pass
+    (no E_HELIX_COUNT).  Every clock compared with the model.  Only with HP_CORE_FAR=1
+    (about 70,000 clocks at W 16); W >= 14 (radius 6,000)."""
+    bind(dut)
+    assert W >= 14, "far_arc_count needs a radius of 6,000: W >= 14"
+    bench = new_bench(dut, cfg=[StepCfg(1, 0, 0, 0)] * NA, seed=SEED + 17)
+    await bench.start()
+    circle = enc.encode_arc(1, 0, -6000, 0, 0)
+    count = move_count(circle, NA, W)
+    assert count >= 1 << 15
+    prog = profiled([enc.encode_arc(1, 0, -6000, 0, 0, count=count)], NA, W, DIV,
+                    v_cruise=ONE - 1, accel=(1 << 34) - 1)
+    await bench.send(prog)
+    await bench.drain()
+    check_end(bench, prog)
+    assert not bench.errors
+
+
 @cocotb.test(skip=not FAR)
 async def far_distance(dut):
     """A distance beyond 2^32 (BLU x 2^16) crossed: one line whose iterations cost

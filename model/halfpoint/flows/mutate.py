@@ -20,7 +20,11 @@ How (YosysHQ mcy's method, without mcy).  For each module:
    ``gen`` refuses a list with a mutation of any other cell (the cell's src
    read back from the netlist).  A listed mutation may still carry a second
    ``-src`` of another file: a bit of the core's cell whose net is named by
-   a unit's port (the queue memory's read data on ``u_arc.s_ye``, say).
+   a unit's port (the queue memory's read data on ``u_arc.s_ye``, say).  A
+   target marked ``stable`` (the core, the step generator) draws its N from
+   the whole candidate list by hashes of what each mutation mutates
+   (:func:`select_stable`), so that an RTL change redraws only the mutants of
+   the cells it changes, not the whole sample.
 2. ``build``: ``mutate -ctrl mutsel B k ...`` puts ALL N mutations into one
    netlist, mutation k active when the new input ``mutsel`` equals k
    (``mutsel`` = 0: the design unchanged).  The netlist's top is renamed
@@ -37,7 +41,8 @@ How (YosysHQ mcy's method, without mcy).  For each module:
 Equivalent mutants.  A survivor that no test can kill (the mutation does not
 change any output, e.g. it forces a bit that is always 0 anyway) is listed
 with its reason in tb/mutate/equivalent.toml, keyed by module, parameters,
-seed and the exact ``mutate`` command; it is reported EQUIVALENT.  A listed
+seed and the exact ``mutate`` command (for a stable target also its ``key``,
+:func:`stable_key`, by which it is matched); it is reported EQUIVALENT.  A listed
 mutant that a test kills, or that is no longer generated (the RTL changed),
 is reported as a stale entry.  Every other survivor needs a new test.
 ``--prove DEPTH`` checks each unlisted survivor as mcy does: a miter of the
@@ -50,7 +55,8 @@ missing; UNKNOWN: the induction did not close at that depth.)
 A target may name slow tests (``Target.slow_tests``, with ``slow_env``): they
 run only on the mutants that survive its tests and are not listed equivalent
 (the core's ``far_distance``, 65,600 clocks, for a bit of the distance that
-only a segment that long reaches), and a kill there counts as a kill.
+only a segment that long reaches, and ``far_arc_count``, an arc of more than
+2^15 moves), and a kill there counts as a kill.
 
 ``--only`` runs some mutants (the survivors of a full run, on the tests as
 they are now); ``--tests`` with it runs only the tests named (those added
@@ -67,6 +73,7 @@ from __future__ import annotations
 
 import argparse
 import concurrent.futures as cf
+import hashlib
 import json
 import os
 import re
@@ -112,6 +119,12 @@ class Target:
     # once per survivor, not once per mutant
     slow_tests: tuple = ()
     slow_env: dict = field(default_factory=dict)
+    # how the N mutants are drawn: False, Yosys's ``mutate -list N -seed S``
+    # (spread over the netlist, but every cell added or removed anywhere draws
+    # another sample); True, the stable sample (:func:`select_stable`), which an
+    # RTL change alters only where it changes cells, and whose list entries are
+    # matched by their stable key (source text, not line numbers)
+    stable: bool = False
 
     def selection(self) -> str:
         """The Yosys selection ``mutate -list`` draws from: every wire (so that
@@ -132,7 +145,7 @@ class Target:
 # fill would survive for want of a test, not because it is harmless).
 TARGETS = {t.module: t for t in [
     Target("halfpoint_stepgen", ("halfpoint_stepgen",), {"TW": 4}, "stepgen_cocotb",
-           extra_env={"HP_SEED": 1},
+           extra_env={"HP_SEED": 1}, stable=True,
            why="TW 4: the test's settings (up to 9) fill every bit of the timers"),
     Target("halfpoint_line", ("halfpoint_line",), {"NA": 3, "W": 8}, "line_cocotb",
            ("seed_example", "extreme_deltas", "back_to_back", "control_and_sequencing"),
@@ -157,9 +170,11 @@ TARGETS = {t.module: t for t in [
                "profile_distance_bits in full (every bit of d_exit, d_stop); the mutants are "
                "the core's own cells (queue, decode, dispatch, readiness, flush, "
                "positions): the units are mutated by their own targets; far_distance (a "
-               "65,600-clock line, HP_CORE_FAR) runs as a second tier on the survivors",
-           mutate_sources=("halfpoint_core",), slow_tests=("far_distance",),
-           slow_env={"HP_CORE_FAR": 1}),
+               "65,600-clock line) and far_arc_count (an arc of over 2^15 moves), with "
+               "HP_CORE_FAR, run as a second tier on the survivors",
+           mutate_sources=("halfpoint_core",),
+           slow_tests=("far_distance", "far_arc_count"),
+           slow_env={"HP_CORE_FAR": 1}, stable=True),
     Target("halfpoint_refloop", ("halfpoint_refloop",), {"WR": 34, "FOLD": 0},
            "refloop_cocotb", extra_env={"HP_SEED": 1}, why="as test_refloop_rtl fold 0"),
     Target("halfpoint_uart_cmd", ("halfpoint_uart_cmd",),
@@ -176,6 +191,7 @@ class Mutation:
     seconds: float = 0.0
     detail: str = ""               # what killed it (failed tests, timeout, crash)
     reason: str = ""               # why equivalent (from the checked-in list)
+    key: str = ""                  # stable_key of the command (stable targets)
 
     def option(self, name: str) -> str:
         m = re.search(rf"-{name} (\S+)", self.command)
@@ -221,21 +237,87 @@ def generate(target: Target, count: int, seed: int, workdir: Path) -> list[Mutat
     reads = "\n".join(f"read_verilog -I rtl rtl/{s}.v" for s in target.sources)
     params = " ".join(f"-set {k} {v}" for k, v in target.parameters.items())
     flatten = "flatten\n" if len(target.sources) > 1 else ""
+    listed = ALL_MUTATIONS if target.stable else count
     yosys(f"""{reads}
 chparam {params} {target.module}
 prep -top {target.module}
 {flatten}write_rtlil {workdir / 'design.il'}
 write_json {workdir / 'ports.json'}
-mutate -list {count} -seed {seed} -o {workdir / 'mutations.txt'} {target.selection()}
+mutate -list {listed} -seed {seed} -o {workdir / 'mutations.txt'} {target.selection()}
 """, workdir, "gen")
     lines = [ln.strip() for ln in (workdir / "mutations.txt").read_text().splitlines()
              if ln.strip().startswith("mutate ")]
-    mutations = [Mutation(k + 1, line) for k, line in enumerate(lines)]
+    if target.stable:
+        texts = source_texts(target)
+        # a memory's clocks and its asynchronous read port's enable and resets
+        # are not the design's logic, and Yosys cannot write some of them mutated
+        # (an assertion in its Verilog back end for RD_SRST)
+        lines = [c for c in lines if not _MEMORY_CONTROL.search(c)]
+        chosen = select_stable(lines, count, seed, texts)
+        (workdir / "mutations.txt").write_text("".join(c + "\n" for c in chosen))
+        mutations = [Mutation(k + 1, c, key=stable_key(c, texts)) for k, c in enumerate(chosen)]
+    else:
+        mutations = [Mutation(k + 1, line) for k, line in enumerate(lines)]
     foreign = foreign_mutations(target, mutations, workdir)
     if foreign:
         raise RuntimeError(f"{target.module}: {len(foreign)} mutations of cells outside "
                            f"{', '.join(target.mutate_sources)}, e.g. {foreign[0]}")
     return mutations
+
+
+# ``mutate -list`` with at least this many: every candidate mutation (the core
+# has about 40,000)
+ALL_MUTATIONS = 10_000_000
+_MEMORY_CONTROL = re.compile(r" -port (RD_ARST|RD_CLK|RD_EN|RD_SRST|WR_CLK) ")
+_SRC_SPAN = re.compile(r"rtl/([\w.]+\.v):(\d+)(?:\.(\d+)-(\d+)\.(\d+))?")
+
+
+def source_texts(target: Target) -> dict[str, list[str]]:
+    """File name -> its lines, for the files of ``target.sources``."""
+    return {f"{s}.v": (RTL / f"{s}.v").read_text().splitlines() for s in target.sources}
+
+
+def stable_key(command: str, texts: dict[str, list[str]]) -> str:
+    """A mutate command named by what it mutates rather than where that sits: no
+    Yosys automatic numbers (:func:`mutation_key`), and every source location
+    (``rtl/f.v:L1.C1-L2.C2`` in -src, ``rtl/f.v:L`` in a cell's name) replaced by
+    a hash of the text of its lines (blanks collapsed) and its columns.  Lines added
+    or removed elsewhere leave it unchanged; a change of its own lines changes it."""
+    def span(m: re.Match) -> str:
+        name, first = m.group(1), int(m.group(2))
+        last = int(m.group(4)) if m.group(3) else first
+        lines = texts.get(name)
+        if lines is None or last > len(lines):
+            return m.group(0)
+        text = " ".join(" ".join(ln.split()) for ln in lines[first - 1:last])
+        digest = hashlib.sha1(text.encode()).hexdigest()[:12]
+        cols = f".{m.group(3)}-{m.group(5)}" if m.group(3) else ""
+        return f"{name}#{digest}{cols}"
+    return _SRC_SPAN.sub(span, mutation_key(command))
+
+
+def _stable_hash(seed: int, text: str) -> str:
+    return hashlib.sha256(f"{seed}:{text}".encode()).hexdigest()
+
+
+def select_stable(commands: list[str], count: int, seed: int,
+                  texts: dict[str, list[str]]) -> list[str]:
+    """``count`` of the candidate ``commands``, chosen so that a change of the RTL
+    changes the choice only where it changes cells.  The candidates are grouped by
+    mutation mode, cell (or wire) and port, bits aside; each group offers its
+    member of least hash (of the seed and the member's stable key), and the groups
+    of least hash (of the seed and the group) are taken, in that order.  So the
+    sample is spread over cells and ports as Yosys's is (not over the bits of
+    wide vectors), and a group that vanishes lets exactly one other in."""
+    best: dict[str, tuple[str, str]] = {}
+    for c in commands:
+        key = stable_key(c, texts)
+        group = re.sub(r" -(portbit|ctrlbit|wirebit) \d+", "", key)
+        pick = (_stable_hash(seed, key), c)
+        if group not in best or pick < best[group]:
+            best[group] = pick
+    order = sorted(best, key=lambda g: (_stable_hash(seed, g), g))[:count]
+    return [best[g][1] for g in order]
 
 
 def cell_sources(workdir: Path, module: str) -> dict[str, list[str]]:
@@ -543,6 +625,28 @@ def unmatched_listed(known: dict[str, str], generated: list[str]) -> list[str]:
     return [c for c in known if c not in generated and mutation_key(c) not in matched]
 
 
+def match_target(target: Target, seed: int, entries: list[dict],
+                 mutations: list[Mutation]) -> tuple[dict[str, str], list[str]]:
+    """The listed equivalents of ``target`` among ``mutations`` (command -> reason) and
+    the listed mutations that name none of them (stale).  A stable target's entries
+    carry their ``key`` (:func:`stable_key` when listed) and match by it; the others
+    match by command up to Yosys's numbers (:func:`match_listed`)."""
+    commands = [m.command for m in mutations]
+    if not target.stable:
+        listed = equivalent_for(target, seed, entries)
+        return match_listed(listed, commands), unmatched_listed(listed, commands)
+    mine = [e for e in entries if e["module"] == target.module and e["seed"] == seed
+            and e["parameters"] == target.parameters]
+    unkeyed = [e["mutation"].strip() for e in mine if not e.get("key", "").strip()]
+    if unkeyed:
+        raise ValueError(f"{target.module}: entries without a key: {unkeyed[0]}")
+    by_key = {e["key"].strip(): e["reason"].strip() for e in mine}
+    known = {m.command: by_key[m.key] for m in mutations if m.key in by_key}
+    generated = {m.key for m in mutations}
+    stale = [e["mutation"].strip() for e in mine if e["key"].strip() not in generated]
+    return known, stale
+
+
 def run_module(target: Target, count: int, seed: int, simulator: str, jobs: int,
                only: list[int] | None = None, out: Path = OUT,
                entries: list[dict] | None = None, log=print, prove_depth: int = 0) -> dict:
@@ -569,8 +673,9 @@ def run_module(target: Target, count: int, seed: int, simulator: str, jobs: int,
         for k, m in enumerate(pool.map(one, chosen), 1):
             if k % 25 == 0 or k == len(chosen):
                 log(f"  {k}/{len(chosen)} run")
-    listed = equivalent_for(target, seed, entries if entries is not None else load_equivalent())
-    known = match_listed(listed, [m.command for m in mutations])
+    known, unmatched = match_target(target, seed,
+                                    entries if entries is not None else load_equivalent(),
+                                    mutations)
     # the second tier: the slow tests on the survivors not listed equivalent
     tier2 = [m for m in chosen if m.status == "SURVIVED" and m.command not in known]
     if target.slow_tests and tier2:
@@ -593,8 +698,7 @@ def run_module(target: Target, count: int, seed: int, simulator: str, jobs: int,
             else:
                 stale.append(f"listed equivalent but killed: {m.index} {m.command}")
     if not only:
-        stale += [f"listed but not generated (RTL or Yosys changed): {c}"
-                  for c in unmatched_listed(listed, [m.command for m in mutations])]
+        stale += [f"listed but not generated (RTL or Yosys changed): {c}" for c in unmatched]
     proofs = {}
     if prove_depth:
         # survivors not in the list: is any input sequence able to tell them apart?
@@ -604,6 +708,11 @@ def run_module(target: Target, count: int, seed: int, simulator: str, jobs: int,
                                                             prove_depth)
                 log(f"  equivalence of #{m.index}: {proofs[m.index]} ({seconds:.0f} s)")
         proposed = [m for m in chosen if proofs.get(m.index) == "PASS"]
+
+        def key_line(m: Mutation) -> str:
+            return f"key = {toml_string(m.key)}\n" if target.stable else ""
+        proven = toml_string(f"proven (miter with the design, k-induction depth {prove_depth}): ")
+
         (workdir / "equivalent-proposed.toml").write_text("".join(
             f"""
 [[equivalent]]
@@ -611,7 +720,7 @@ module = "{target.module}"
 parameters = {{ {', '.join(f'{k} = {v}' for k, v in target.parameters.items())} }}
 seed = {seed}
 mutation = {toml_string(m.command)}
-reason = {toml_string(f"proven (miter with the design, k-induction depth {prove_depth}): ")}
+{key_line(m)}reason = {proven}
 """ for m in proposed))
     counts = {s: sum(1 for m in chosen if m.status == s)
               for s in ("KILLED", "SURVIVED", "EQUIVALENT")}
