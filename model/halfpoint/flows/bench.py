@@ -84,7 +84,8 @@ def moves_per_clock(min_moves: int):
     """Moves per clock at the move queue's input while it has room: moves made
     into it / clocks with room and a segment running or starting (the
     interpolators must not wait for anything but the queue; the clock in which the
-    arc unit loads an arc behind an arc counts against them), on 300 segments at
+    arc unit loads an arc behind an arc, or a unit a segment behind the other's,
+    counts against them), on 300 segments at
     0.45 BLU per clock."""
     rng = random.Random(SEED)
     cmds = []
