@@ -137,9 +137,9 @@ def test_equivalents_match_the_current_netlist(module):
 
 
 def test_stable_sample_moves_only_where_the_rtl_changes():
-    """The stable sample (the core's) names each mutation by the text of its source
-    lines, so lines added elsewhere leave it unchanged; a changed line redraws only
-    its own mutants, each replaced by exactly one other."""
+    """The stable sample (the core's and the stepgen's) names each mutation by the
+    text of its source lines, so lines added elsewhere leave it unchanged; a changed
+    line redraws only its own mutants, each replaced by exactly one other."""
     texts = {"a.v": ["module a;", "assign x = p & q;", "assign y = r | s;", "endmodule"]}
     shifted = {"a.v": ["module a;", "// a new comment", "assign x = p & q;",
                        "assign y = r | s;", "endmodule"]}
@@ -173,7 +173,7 @@ def test_stable_sample_moves_only_where_the_rtl_changes():
         {mutate.stable_key(c, texts) for c in base if "$and$" in c})
 
 
-def test_stable_entries_match_by_key(tmp_path):
+def test_stable_entries_match_by_key():
     """A stable target's entry matches by its key, wherever its lines now sit, and an
     entry without a key is refused."""
     target = mutate.TARGETS["halfpoint_core"]

@@ -832,25 +832,17 @@ async def dispatch_and_burst(dut):
     # the arc profile again just before the bad arc: the profile queue, which the
     # first arc's profile filled as its run started, has room again when it arrives
     prog.insert(prog.index(bad), prog[0])
-    pops = []
-
-    async def watch():
-        while True:
-            await FallingEdge(dut.clk)
-            last = getattr(bench, "last", None)
-            if last is not None and last["move"]:
-                pops.append((bench.cycle, tuple(last["pos"][:2])))
-
-    cocotb.start_soon(watch())
     await bench.send(prog)
     await bench.drain()
     check_end(bench, prog)
     assert [c for _, c in bench.errors] == [enc.E_OPCODE]
     # the arcs end at (3, -3) and (6, -6), the lines at (11, -6) and (11, -1): the
     # last X move and the first Y move seen on consecutive clocks
-    first_y = pops.index(next(p for p in pops if p[1] == (11, -5)))
-    assert pops[first_y - 1][1] == (11, -6)
-    assert pops[first_y][0] == pops[first_y - 1][0] + 1, "no pop burst across the boundary"
+    plane = [tuple(p[:2]) for p in bench.trace]
+    first_y = plane.index((11, -5))
+    assert plane[first_y - 1] == (11, -6)
+    assert bench.move_cycles[first_y] == bench.move_cycles[first_y - 1] + 1, \
+        "no pop burst across the boundary"
 
 
 @cocotb.test(skip=not FAR)

@@ -579,11 +579,16 @@ def load_equivalent(path: Path = EQUIVALENT) -> list[dict]:
     return entries
 
 
+def entries_for(target: Target, seed: int, entries: list[dict]) -> list[dict]:
+    """The entries of this module, parameter set and seed."""
+    return [e for e in entries if e["module"] == target.module and e["seed"] == seed
+            and e["parameters"] == target.parameters]
+
+
 def equivalent_for(target: Target, seed: int, entries: list[dict]) -> dict[str, str]:
     """mutate command -> reason, for this module, parameter set and seed."""
-    return {e["mutation"].strip(): e["reason"].strip() for e in entries
-            if e["module"] == target.module and e["seed"] == seed
-            and e["parameters"] == target.parameters}
+    return {e["mutation"].strip(): e["reason"].strip()
+            for e in entries_for(target, seed, entries)}
 
 
 def mutation_key(command: str) -> str:
@@ -635,8 +640,7 @@ def match_target(target: Target, seed: int, entries: list[dict],
     if not target.stable:
         listed = equivalent_for(target, seed, entries)
         return match_listed(listed, commands), unmatched_listed(listed, commands)
-    mine = [e for e in entries if e["module"] == target.module and e["seed"] == seed
-            and e["parameters"] == target.parameters]
+    mine = entries_for(target, seed, entries)
     unkeyed = [e["mutation"].strip() for e in mine if not e.get("key", "").strip()]
     if unkeyed:
         raise ValueError(f"{target.module}: entries without a key: {unkeyed[0]}")

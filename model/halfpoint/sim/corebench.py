@@ -62,6 +62,7 @@ class CoreBench:
         # spindle_enable, spindle_reverse, coolant_mist, coolant_flood, spindle_pwm)
         self.output_pins: list[tuple] = []
         self.trace: list[tuple] = []       # positions after every move
+        self.move_cycles: list[int] = []   # the cycle each move was seen in
         self.max_level = 0
         self.errors: list[tuple[int, int]] = []   # (cycle, code)
         self.moves = 0
@@ -143,6 +144,7 @@ class CoreBench:
                 chk.sample((got["step_pins"] >> k) & 1, (got["dir_pins"] >> k) & 1)
             if got["move"]:
                 self.trace.append(got["pos"])
+                self.move_cycles.append(self.cycle)
                 self.moves += 1
             if got["err"]:
                 self.errors.append((self.cycle, got["err_code"]))
