@@ -7,7 +7,8 @@ the inputs of a clock, the driver puts them on the pins, the monitor reads the
 pins (and the registers), the model is ``halfpoint.spec.profile.ProfileStage``, and
 the checker compares.  Every clock: the combinational view (pop, take, stopped,
 holding) after the inputs settle, the registered outputs (speed, dry, busy) after
-the edge, and every register of the model against its RTL counterpart (not with
+the edge and again before the next (still the same with the next clock's inputs
+on), and every register of the model against its RTL counterpart (not with
 HP_PROFILE_REGISTERS=0: the pins only; HP_PROFILE_SCOPE names the instance that
 holds them when it is not the top, as in the mutation flow's wrapper).
 """
@@ -79,6 +80,12 @@ class Events:
     stop_at: int | None = None      # stop from this clock until the stage is stopped
     abort_at: int | None = None
     budget: int = 4000              # abort the program after this many clocks
+    # abort on the first clock from this one on where the stage pops (the model
+    # with the clock's other inputs says so): the pop must not happen
+    abort_on_pop: int | None = None
+    # ready low on every held clock: the credit fills while the stage slows down
+    # under hold, so that at rest it covers the head move (not holding yet)
+    stall_while_held: bool = False
 
     def hold(self, t: int) -> int:
         return int(any(a <= t < b for a, b in self.holds))
@@ -302,6 +309,10 @@ class Stimulus:
             moves = prog.moves[self.cur_seg]
             inp.head_class = moves[self.idx]
             inp.head_last = int(self.idx == len(moves) - 1)
+        if ev.stall_while_held and inp.hold:
+            inp.ready = 0
+        if ev.abort_on_pop is not None and t >= ev.abort_on_pop and model.view(inp).pop:
+            inp.abort = 1
         return inp
 
     def advance(self, inp: ProfileInputs, view, model: ProfileStage) -> bool:
@@ -457,6 +468,72 @@ def override_staircase_program(rng) -> tuple:
     return Program("aligned", [profile], [moves_of(rng, False, 2 * level + 2)], [0]), events
 
 
+FLOORS_NEAR_CRUISE = ("creep_above", "creep_below", "exit_below")
+
+
+def floor_near_cruise_program(rng, kind: str) -> Program:
+    """One segment (axis and diagonal moves) whose exit staircase starts at once
+    (d_exit 0) and whose floor lies just off its cruise speed: the creep speed
+    (v_exit 0: the floor is the speed step) 1 to 4 LSB above the cruise speed
+    (``creep_above``: the staircase's speed passes the cruise speed, which stays the
+    target), up to 2^15 LSB below it (``creep_below``), or an exit speed 1 to 511
+    field LSB (64 to 32,704 LSB) below it (``exit_below``, the planner's exit a hair
+    under the cruise speed).  The target's choice between the staircase and the
+    cruise speed is then decided this close to its threshold.  Speed steps near the
+    cruise speed keep the cruise speed below 2^28 field LSB (1/16 BLU per clock)."""
+    v_cruise = rng.randint(1 << 25, (1 << 28) - 1)
+    cruise = v_cruise << pf.SPEED_SHIFT
+    v_exit = 0
+    if kind == "creep_above":
+        accel = min(cruise + rng.randint(1, 4), TOP_ACCEL)
+    elif kind == "creep_below":
+        accel = cruise - rng.choice((rng.randint(1, 4), rng.randint(1, (1 << 15) - 1)))
+    else:
+        v_exit = v_cruise - rng.randint(1, 511)
+        accel = rng.choice((rng.randint(64, 1 << 12), rng.randint(1 << 12, cruise)))
+    moves = moves_of(rng, False, rng.randint(3, 6))
+    profile = ProfileParams(v_cruise, v_exit, accel, 0, 0, 0)
+    profile.check(W)
+    return Program("raw", [profile], [moves], [0])
+
+
+BELOW_TERMS = ("accel_floor", "accel_speed", "floor_speed")
+
+
+def below_term_program(rng, bit: int, term: str) -> Program | None:
+    """One segment whose exit staircase starts at once (d_exit 0) and whose first
+    step from the cruise speed lands at most 2^(bit + 1) LSB under floor + accel,
+    with one carry term of that compare's carry-save level live at ``bit``: the
+    RTL decides "below" as accel + (floor + accel) + ~ramp_v >= 0, and ``term``
+    names the pair of its three operands that are 1 at ``bit`` (the third 0), so
+    that a lost carry there turns the outcome.  Speeds and steps large enough that
+    the first step comes within about a hundred clocks.  None when no draw has it
+    (below bit 6 the speeds' bits are 0, which rules out some terms)."""
+    tick = 1 << DIV
+    for _ in range(2000):
+        accel = rng.randint(1 << 30, TOP_ACCEL)
+        floor = rng.randint(accel, 3 * accel) >> pf.SPEED_SHIFT << pf.SPEED_SHIFT
+        # ramp_v = floor + 2 accel - 1 - s with s in [0, 2^(bit + 1)), a multiple of 64
+        s_low = (2 * accel - 1) % 64
+        span = 1 << (bit + 1)
+        if s_low >= span:
+            continue
+        s = s_low + 64 * rng.randint(0, max(0, (span - 1 - s_low) // 64))
+        cruise = floor + 2 * accel - 1 - s
+        if cruise >= 1 << 38 or cruise <= floor + accel:
+            continue
+        a, b, c = accel >> bit & 1, (floor + accel) >> bit & 1, ~cruise >> bit & 1
+        if (a, b, c) == {"accel_floor": (1, 1, 0), "accel_speed": (1, 0, 1),
+                         "floor_speed": (0, 1, 1)}[term]:
+            break
+    else:
+        return None
+    level = ((cruise * tick) >> pf.SPEED_FRAC) + 1         # BLU of the first level
+    profile = ProfileParams(cruise >> pf.SPEED_SHIFT, floor >> pf.SPEED_SHIFT, accel, 0, 0, 0)
+    profile.check(W)
+    return Program("raw", [profile], [moves_of(rng, False, 2 * level + 4)], [0])
+
+
 # --- driver, monitor, checker ---------------------------------------------------------------
 
 class Driver:
@@ -608,7 +685,8 @@ class Checker:
         self.seen = {"pop": 0, "take": 0, "stopped": 0, "holding": 0, "ramp_step": 0,
                      "dry_start": 0, "left_negative": 0, "capped": 0,
                      "exact_cover": 0, "capped_pop_step": 0, "left_floor": 0,
-                     "ceiling": 0, "near_up": 0, "near_down": 0}
+                     "ceiling": 0, "near_up": 0, "near_down": 0, "held_covered": 0,
+                     "abort_on_pop": 0, "floor_above_cruise": 0, "floor_near_cruise": 0}
         self.returns = {k: 0 for k in DRY_RETURNS}
         self.v_before = 0
 
@@ -625,6 +703,9 @@ class Checker:
             self.seen["left_negative"] += 1
         if want_reg.get("ramp_left") == -pf.ramp_left_floor(DIV):
             self.seen["left_floor"] += 1
+
+    def held(self, clock, got: dict, want: dict, context) -> None:
+        self._diff("outputs before the edge", clock, got, want, context)
 
     def view(self, clock, got: dict, want: dict, w, context) -> None:
         self._diff("view", clock, got, want, context)
@@ -644,10 +725,21 @@ class Checker:
         if model.cur is not None and inp.head_valid:
             cost = pf.move_cost(inp.head_class, model.cur)
             self.seen["exact_cover"] += int(model.credit >> pf.COST_SHIFT == cost)
+            covered = model.credit >> pf.COST_SHIFT >= cost
+            # held at rest with the head move covered: not holding (a move is due)
+            self.seen["held_covered"] += int(bool(inp.hold) and model.v == 0 and covered)
+            self.seen["abort_on_pop"] += int(bool(inp.abort) and covered and bool(inp.ready)
+                                             and not (inp.stop and model.v == 0))
         # a step that lands within 4 LSB of its target, not on it
         v, t, a = model.v, model.target, model.accel
         self.seen["near_up"] += int(t > v and 0 < abs(v + a - t) <= 4)
         self.seen["near_down"] += int(t < v and 0 < abs(v - a - t) <= 4)
+        if model.cur is not None and model.ramp_on:
+            # the staircase's speed above the cruise speed (a creep speed above it)
+            # or within 2^15 LSB below it
+            cruise = model.cur.v_cruise << pf.SPEED_SHIFT
+            self.seen["floor_above_cruise"] += int(model.ramp_v > cruise)
+            self.seen["floor_near_cruise"] += int(cruise - (1 << 15) <= model.ramp_v < cruise)
         if model.cur is not None and model.ramp_on and model.ramp_dry and inp.next_valid:
             # the next profile came while the dry staircase runs: where it returns
             exit_speed = model.cur.v_exit << pf.SPEED_SHIFT
@@ -709,6 +801,10 @@ class Bench:
         self.driver.drive(inp)
         await ReadOnly()
         got = self.monitor.view()
+        # the registered outputs still hold the last edge's values with this
+        # clock's inputs on (a register clocked on the falling edge shows here)
+        self.checker.held(self.clock, self.monitor.outputs(), model_outputs(self.model),
+                          context)
         self.checker.credit(self.model, inp)
         w = self.model.clock(inp)
         self.checker.view(self.clock, got, model_view(w), w, context)
@@ -823,6 +919,12 @@ async def dry_returns_and_aligned_speeds(dut):
         await bench.run_program(program, events)
     for k in range(5):
         await bench.run_program(*override_staircase_program(bench.rng))
+    # more returns at or above the exit speed, on other speeds: the level such a
+    # return keeps (exit_level + 4 ramp_v) over more bit patterns
+    for wanted in DRY_RETURNS[1:3] * 3:
+        program, events = dry_return_program(bench.rng, wanted, bench.model)
+        assert program is not None, f"no chain with a dry return {wanted}"
+        await bench.run_program(program, events)
     bench.report("dry returns and aligned speeds")
     assert all(bench.checker.returns.values()), bench.checker.returns
     assert bench.checker.seen["near_up"] and bench.checker.seen["near_down"]
@@ -885,6 +987,79 @@ async def one_step_approaches(dut):
     seen = bench.checker.seen
     assert seen["take"] == samples and seen["stopped"] == samples
     assert seen["near_up"] >= samples // 2
+
+
+@cocotb.test()
+async def aborts_holds_and_floors(dut):
+    """Corners of the pop, the hold, the staircase's floor and the dry flag: an
+    abort on a clock where the stage would pop (it must not pop), holds with ready
+    low while held (the credit fills as the speed falls, so at rest it covers the
+    head move and the stage is not holding), programs with override changes,
+    staircases whose floor lies just off the cruise speed
+    (``floor_near_cruise_program``), and dry staircases, each followed by a reset
+    (the dry flag set and cleared again).  (Written for the
+    mutation run of the stable sample: a pop left ungated by the abort, holding
+    without the covered move, bits of the compare of the staircase's speed with
+    the cruise speed, and the dry flag's register clocked on the falling edge,
+    which the outputs' check before each edge sees.)"""
+    bind(dut)
+    bench = Bench(dut, SEED + 600)
+    await bench.start()
+    rng = bench.rng
+    for _ in range(10):
+        events = Events(budget=3000, abort_on_pop=rng.randint(0, 300))
+        await bench.run_program(planned_program(rng), events)
+    for _ in range(8):
+        start = rng.randint(20, 300)
+        events = Events(budget=4000, holds=[(start, start + rng.randint(50, 500))],
+                        stall_while_held=True)
+        await bench.run_program(planned_program(rng), events)
+    for _ in range(6):
+        program = planned_program(rng)
+        events = random_events(rng, program, calm=False)
+        events.overrides.append((rng.randint(0, 50), rng.choice((96, 127, 64))))
+        events.overrides.sort()
+        await bench.run_program(program, events)
+    for kind in FLOORS_NEAR_CRUISE * 3:
+        await bench.run_program(floor_near_cruise_program(rng, kind), Events(budget=5000))
+    # the dry flag set on a rising edge (a dry staircase's step), then cleared by a reset
+    for _ in range(2):
+        program, events = dry_return_program(rng, "below_exit", bench.model)
+        assert program is not None, "no chain with a dry return below the exit speed"
+        await bench.run_program(program, events)
+        await bench.reset()
+    bench.report("aborts, holds and floors")
+    seen = bench.checker.seen
+    assert seen["dry_start"] >= 2, seen
+    assert seen["abort_on_pop"] >= 5, seen
+    assert seen["held_covered"] >= 4, seen
+    assert seen["floor_above_cruise"] and seen["floor_near_cruise"], seen
+
+
+@cocotb.test()
+async def below_compare_terms(dut):
+    """The staircase's compare of its next speed with floor + accel, one step under
+    its threshold for every bit of the carry-save sum (``below_term_program``), each
+    bit with a random one of its three carry terms live; every clock compared.
+    (Written for the mutation run of the stable sample: a carry term of that sum
+    dropped at bit 25 survived every other test.)"""
+    bind(dut)
+    bench = Bench(dut, SEED + 700)
+    await bench.start()
+    rng = bench.rng
+    runs = 0
+    for bit in range(34):
+        for term in rng.sample(BELOW_TERMS, len(BELOW_TERMS)):
+            program = below_term_program(rng, bit, term)
+            if program is not None:
+                break
+        assert program is not None or bit < 6, f"no staircase for bit {bit}"
+        if program is not None:
+            await bench.run_program(program, Events(budget=5000))
+            runs += 1
+    bench.report("below compare terms")
+    assert bench.stim.ends["done"] == runs, bench.stim.ends
+    assert bench.checker.seen["ramp_step"] >= runs
 
 
 @cocotb.test(skip=not LONG)
