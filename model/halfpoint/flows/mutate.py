@@ -21,10 +21,10 @@ How (YosysHQ mcy's method, without mcy).  For each module:
    read back from the netlist).  A listed mutation may still carry a second
    ``-src`` of another file: a bit of the core's cell whose net is named by
    a unit's port (the queue memory's read data on ``u_arc.s_ye``, say).  A
-   target marked ``stable`` (the core, the step generator) draws its N from
-   the whole candidate list by hashes of what each mutation mutates
-   (:func:`select_stable`), so that an RTL change redraws only the mutants of
-   the cells it changes, not the whole sample.
+   target marked ``stable`` (the core, the step generator, the profile
+   stage) draws its N from the whole candidate list by hashes of what each
+   mutation mutates (:func:`select_stable`), so that an RTL change redraws
+   only the mutants of the cells it changes, not the whole sample.
 2. ``build``: ``mutate -ctrl mutsel B k ...`` puts ALL N mutations into one
    netlist, mutation k active when the new input ``mutsel`` equals k
    (``mutsel`` = 0: the design unchanged).  The netlist's top is renamed
@@ -50,7 +50,8 @@ design and the mutant alone (same inputs, same all-zero power-up state, rst
 on the first clock, all outputs compared) proved by SymbiYosys k-induction;
 the proven ones go to <out>/<module>/equivalent-proposed.toml, to be
 reviewed into the list.  (FAIL there: a counterexample exists, a test is
-missing; UNKNOWN: the induction did not close at that depth.)
+missing; UNKNOWN: the induction did not close at that depth; TIMEOUT: no
+answer within ``--prove-timeout`` seconds, default :data:`PROVE_TIMEOUT_S`.)
 
 A target may name slow tests (``Target.slow_tests``, with ``slow_env``): they
 run only on the mutants that survive its tests and are not listed equivalent
@@ -96,6 +97,8 @@ OUT = BUILD / "mutate"
 EQUIVALENT = REPO / "tb" / "mutate" / "equivalent.toml"
 DEFAULT_COUNT = 200
 DEFAULT_SEED = 1
+# the time limit of one equivalence proof of --prove, seconds (SymbiYosys's timeout)
+PROVE_TIMEOUT_S = 300
 
 
 @dataclass(frozen=True)
@@ -158,7 +161,7 @@ TARGETS = {t.module: t for t in [
            "profile_cocotb",
            extra_env={"HP_SEED": 1, "HP_PROFILE_SCOPE": "u_mutants", "HP_PROFILE_LONG": 1},
            why="as test_profile_rtl W16-DIV5; the test reads the registers in the "
-               "wrapper's u_mutants, and runs long_segment (33,000 clocks)"),
+               "wrapper's u_mutants, and runs long_segment (33,000 clocks)", stable=True),
     Target("halfpoint_core",
            ("halfpoint_core", "halfpoint_arc", "halfpoint_line", "halfpoint_helix",
             "halfpoint_stepgen", "halfpoint_profile", "halfpoint_outputs"),
@@ -507,11 +510,12 @@ endmodule
 
 
 def prove_equivalent(target: Target, workdir: Path, index: int, count: int,
-                     depth: int) -> tuple[str, float]:
+                     depth: int, timeout: int = 0) -> tuple[str, float]:
     """mcy's equivalence check: SymbiYosys k-induction on the miter of the
     unmutated netlist and mutant ``index``, both starting from the same
     (all-zero) power-up state, rst on the first clock.  Returns (PASS|FAIL|
-    UNKNOWN|ERROR, seconds): PASS = no input sequence tells them apart."""
+    UNKNOWN|TIMEOUT|ERROR, seconds): PASS = no input sequence tells them
+    apart; TIMEOUT after ``timeout`` seconds (0: PROVE_TIMEOUT_S)."""
     from .formal import parse_workdir, Result, setup_formal_env
 
     sby_exe = setup_formal_env(workdir.parent / "formal-bin")
@@ -523,6 +527,7 @@ def prove_equivalent(target: Target, workdir: Path, index: int, count: int,
     (d / "equiv.sby").write_text(f"""[options]
 mode prove
 depth {depth}
+timeout {timeout or PROVE_TIMEOUT_S}
 
 [engines]
 smtbmc yices
@@ -653,11 +658,18 @@ def match_target(target: Target, seed: int, entries: list[dict],
 
 def run_module(target: Target, count: int, seed: int, simulator: str, jobs: int,
                only: list[int] | None = None, out: Path = OUT,
-               entries: list[dict] | None = None, log=print, prove_depth: int = 0) -> dict:
+               entries: list[dict] | None = None, log=print, prove_depth: int = 0,
+               prove_timeout: int = 0) -> dict:
     """Generate, build and run one module's mutants; returns its report."""
     workdir = out / target.module
     t0 = time.monotonic()
     mutations = generate(target, count, seed, workdir)
+    if entries is None:
+        entries = load_equivalent()
+    # the list against this sample before any run: an entry the target cannot
+    # match (a stable target's entry without its key) stops here, not after
+    # the whole run
+    match_target(target, seed, entries, mutations)
     build_netlist(target, mutations, workdir)
     build_s = build_sim(target, workdir, simulator)
     status, detail, base_s = run_one(target, workdir, simulator, 0, None)
@@ -677,9 +689,7 @@ def run_module(target: Target, count: int, seed: int, simulator: str, jobs: int,
         for k, m in enumerate(pool.map(one, chosen), 1):
             if k % 25 == 0 or k == len(chosen):
                 log(f"  {k}/{len(chosen)} run")
-    known, unmatched = match_target(target, seed,
-                                    entries if entries is not None else load_equivalent(),
-                                    mutations)
+    known, unmatched = match_target(target, seed, entries, mutations)
     # the second tier: the slow tests on the survivors not listed equivalent
     tier2 = [m for m in chosen if m.status == "SURVIVED" and m.command not in known]
     if target.slow_tests and tier2:
@@ -709,7 +719,7 @@ def run_module(target: Target, count: int, seed: int, simulator: str, jobs: int,
         for m in chosen:
             if m.status == "SURVIVED":
                 proofs[m.index], seconds = prove_equivalent(target, workdir, m.index, count,
-                                                            prove_depth)
+                                                            prove_depth, prove_timeout)
                 log(f"  equivalence of #{m.index}: {proofs[m.index]} ({seconds:.0f} s)")
         proposed = [m for m in chosen if proofs.get(m.index) == "PASS"]
 
@@ -791,6 +801,8 @@ def main(argv=None) -> int:
                     help="check every unlisted survivor for equivalence with SymbiYosys "
                          "(k-induction of depth DEPTH, e.g. 40); proven ones are written to "
                          "<out>/<module>/equivalent-proposed.toml for the checked-in list")
+    ap.add_argument("--prove-timeout", type=int, default=PROVE_TIMEOUT_S, metavar="SECONDS",
+                    help=f"time limit of each equivalence proof (default {PROVE_TIMEOUT_S})")
     args = ap.parse_args(argv)
     unknown = [m for m in args.modules if m not in TARGETS]
     if unknown:
@@ -820,7 +832,8 @@ def main(argv=None) -> int:
         if tests:
             target = replace(target, testcases=tests)
         reports.append(run_module(target, args.count, args.seed, args.sim, args.jobs,
-                                  only or None, out, entries, prove_depth=args.prove))
+                                  only or None, out, entries, prove_depth=args.prove,
+                                  prove_timeout=args.prove_timeout))
         out.mkdir(parents=True, exist_ok=True)
         (out / "report.json").write_text(json.dumps(reports, indent=2) + "\n")
     print(table(reports))
