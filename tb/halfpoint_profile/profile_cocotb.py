@@ -513,7 +513,8 @@ def below_term_program(rng, bit: int, term: str) -> Program | None:
     for _ in range(2000):
         accel = rng.randint(1 << 30, TOP_ACCEL)
         floor = rng.randint(accel, 3 * accel) >> pf.SPEED_SHIFT << pf.SPEED_SHIFT
-        # ramp_v = floor + 2 accel - 1 - s with s in [0, 2^(bit + 1)), a multiple of 64
+        # ramp_v = floor + 2 accel - 1 - s with s in [0, 2^(bit + 1)) such that
+        # ramp_v is a multiple of 64 (a field speed)
         s_low = (2 * accel - 1) % 64
         span = 1 << (bit + 1)
         if s_low >= span:
@@ -997,11 +998,11 @@ async def aborts_holds_and_floors(dut):
     head move and the stage is not holding), programs with override changes,
     staircases whose floor lies just off the cruise speed
     (``floor_near_cruise_program``), and dry staircases, each followed by a reset
-    (the dry flag set and cleared again).  (Written for the
-    mutation run of the stable sample: a pop left ungated by the abort, holding
-    without the covered move, bits of the compare of the staircase's speed with
-    the cruise speed, and the dry flag's register clocked on the falling edge,
-    which the outputs' check before each edge sees.)"""
+    (the dry flag set and cleared again).  (Written for the mutation run of the
+    stable sample: a pop left ungated by the abort, holding without the covered
+    move, bits of the compare of the staircase's speed with the cruise speed, and
+    the dry flag's register clocked on the falling edge, which the outputs' check
+    before each edge sees.)"""
     bind(dut)
     bench = Bench(dut, SEED + 600)
     await bench.start()
@@ -1039,7 +1040,8 @@ async def aborts_holds_and_floors(dut):
 @cocotb.test()
 async def below_compare_terms(dut):
     """The staircase's compare of its next speed with floor + accel, one step under
-    its threshold for every bit of the carry-save sum (``below_term_program``), each
+    its threshold for every bit of the carry-save sum from 6 to 33 (below 6 where a
+    draw has one: the speeds' low six bits are 0) (``below_term_program``), each
     bit with a random one of its three carry terms live; every clock compared.
     (Written for the mutation run of the stable sample: a carry term of that sum
     dropped at bit 25 survived every other test.)"""
