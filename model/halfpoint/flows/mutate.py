@@ -22,7 +22,7 @@ How (YosysHQ mcy's method, without mcy).  For each module:
    ``-src`` of another file: a bit of the core's cell whose net is named by
    a unit's port (the queue memory's read data on ``u_arc.s_ye``, say).  A
    target marked ``stable`` (the core, the step generator, the profile
-   stage) draws its N from the whole candidate list by hashes of what each
+   stage, the line unit) draws its N from the whole candidate list by hashes of what each
    mutation mutates (:func:`select_stable`), so that an RTL change redraws
    only the mutants of the cells it changes, not the whole sample.
 2. ``build``: ``mutate -ctrl mutsel B k ...`` puts ALL N mutations into one
@@ -151,10 +151,11 @@ TARGETS = {t.module: t for t in [
            extra_env={"HP_SEED": 1}, stable=True,
            why="TW 4: the test's settings (up to 9) fill every bit of the timers"),
     Target("halfpoint_line", ("halfpoint_line",), {"NA": 3, "W": 8}, "line_cocotb",
-           ("seed_example", "extreme_deltas", "back_to_back", "control_and_sequencing"),
+           ("seed_example", "extreme_deltas", "close_magnitudes", "back_to_back",
+            "control_and_sequencing"),
            extra_env={"HP_SEED": 1},
            why="W 8: extreme_deltas reaches the full range in 128 moves (random_program's "
-               "deltas need W >= 9)"),
+               "deltas need W >= 9)", stable=True),
     Target("halfpoint_arc", ("halfpoint_arc",), {"W": 16}, "arc_cocotb",
            extra_env={"HP_SEED": 1}, why="W 16, the narrowest width tested"),
     Target("halfpoint_profile", ("halfpoint_profile",), {"W": 16, "DIV": 5},
