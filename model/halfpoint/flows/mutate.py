@@ -22,9 +22,10 @@ How (YosysHQ mcy's method, without mcy).  For each module:
    ``-src`` of another file: a bit of the core's cell whose net is named by
    a unit's port (the queue memory's read data on ``u_arc.s_ye``, say).  A
    target marked ``stable`` (the core, the step generator, the profile
-   stage, the line unit) draws its N from the whole candidate list by hashes of what each
-   mutation mutates (:func:`select_stable`), so that an RTL change redraws
-   only the mutants of the cells it changes, not the whole sample.
+   stage, the line unit) draws its N from the whole candidate list by hashes
+   of what each mutation mutates (:func:`select_stable`), so that an RTL
+   change redraws only the mutants of the cells it changes, not the whole
+   sample.
 2. ``build``: ``mutate -ctrl mutsel B k ...`` puts ALL N mutations into one
    netlist, mutation k active when the new input ``mutsel`` equals k
    (``mutsel`` = 0: the design unchanged).  The netlist's top is renamed
