@@ -671,7 +671,7 @@ def run_module(target: Target, count: int, seed: int, simulator: str, jobs: int,
     # the list against this sample before any run: an entry the target cannot
     # match (a stable target's entry without its key) stops here, not after
     # the whole run
-    match_target(target, seed, entries, mutations)
+    known, unmatched = match_target(target, seed, entries, mutations)
     build_netlist(target, mutations, workdir)
     build_s = build_sim(target, workdir, simulator)
     status, detail, base_s = run_one(target, workdir, simulator, 0, None)
@@ -691,7 +691,6 @@ def run_module(target: Target, count: int, seed: int, simulator: str, jobs: int,
         for k, m in enumerate(pool.map(one, chosen), 1):
             if k % 25 == 0 or k == len(chosen):
                 log(f"  {k}/{len(chosen)} run")
-    known, unmatched = match_target(target, seed, entries, mutations)
     # the second tier: the slow tests on the survivors not listed equivalent
     tier2 = [m for m in chosen if m.status == "SURVIVED" and m.command not in known]
     if target.slow_tests and tier2:
