@@ -58,11 +58,14 @@ def test_known_bad_killed_and_equivalent_survives():
     proven = {cmd for cmd, reason in
               mutate.equivalent_for(target, 1, mutate.load_equivalent()).items()
               if reason.startswith("proven")}
-    equivalent = next((m.index for m in mutations if m.command in proven), None)
+    # (one that Yosys's equivalence passes prove too, for --equiv below)
+    workdir = out / target.module
+    equivalent = next((m.index for m in mutations if m.command in proven
+                       and mutate.equiv_check(target, workdir, m.index)[0] == "PASS"), None)
     assert equivalent is not None, "no proven-equivalent stepgen mutant: update the list"
     report = mutate.run_module(target, mutate.DEFAULT_COUNT, 1, "verilator", 1,
                                only=[stuck, equivalent], out=out, entries=[],
-                               log=lambda *_: None)
+                               log=lambda *_: None, equiv=True)
     status = {m["index"]: m for m in report["mutations"]}
     assert status[stuck]["status"] == "KILLED", status[stuck]
     assert "failed" in status[stuck]["detail"]
@@ -75,6 +78,26 @@ def test_known_bad_killed_and_equivalent_survives():
     assert list(known) == [entry["mutation"]]
     assert report["killed"] == 1 and report["survived"] == 1
     assert 0 < report["seconds_per_mutant"]
+    # --equiv proposed the survivor for the list, and only it
+    assert status[equivalent]["equivalence_proof"] == "equiv PASS"
+    assert status[stuck]["equivalence_proof"] == ""
+    proposed = mutate.tomllib.loads((workdir / "equivalent-proposed.toml").read_text())
+    assert [e["mutation"] for e in proposed["equivalent"]] == [entry["mutation"]]
+    assert proposed["equivalent"][0]["key"] == next(m.key for m in mutations
+                                                     if m.index == equivalent)
+
+
+def test_equiv_check_refuses_what_it_cannot_prove():
+    """Yosys's equivalence check (--equiv) leaves a mutant that changes an output
+    unproven, naming the signal, and does not judge a mutation of a clock port."""
+    target = STEPGEN
+    workdir = BUILD / "test_mutate" / "equiv" / target.module
+    mutations = mutate.generate(target, mutate.DEFAULT_COUNT, 1, workdir)
+    stuck = find(mutations, r"-mode const[01] .*-port Q .*-wire step_pin ")
+    status, _, unproven = mutate.equiv_check(target, workdir, stuck)
+    assert status == "UNPROVEN" and "step_pin" in unproven, (status, unproven)
+    clock = find(mutations, r"-port CLK ")
+    assert mutate.equiv_check(target, workdir, clock)[0] == "CLOCK"
 
 
 def test_core_mutants_come_from_its_own_file():

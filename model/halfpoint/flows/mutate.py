@@ -3,7 +3,7 @@
 
     python -m halfpoint.flows.mutate [--count N] [--seed S] [--sim SIM]
                                      [--jobs J] [--only I,J.. [--tests T,U..]]
-                                     [MODULE...]
+                                     [--equiv] [--prove DEPTH] [MODULE...]
 
 How (YosysHQ mcy's method, without mcy).  For each module:
 
@@ -53,6 +53,13 @@ the proven ones go to <out>/<module>/equivalent-proposed.toml, to be
 reviewed into the list.  (FAIL there: a counterexample exists, a test is
 missing; UNKNOWN: the induction did not close at that depth; TIMEOUT: no
 answer within ``--prove-timeout`` seconds, default :data:`PROVE_TIMEOUT_S`.)
+``--equiv`` checks them first with Yosys's own equivalence passes
+(:func:`equiv_check`: ``equiv_make``, ``equiv_simple -seq 2``,
+``equiv_induct -seq 2``), seconds per mutant where a miter's k-induction of
+the arc unit or the profile stage does not finish in minutes; it proves a
+mutant only when every register and output it matches is proven equal, and
+it cannot judge a mutation of a clock port (CLOCK).  The survivors it does
+not prove go on to ``--prove`` when both are given.
 
 A target may name slow tests (``Target.slow_tests``, with ``slow_env``): they
 run only on the mutants that survive its tests and are not listed equivalent
@@ -658,10 +665,60 @@ def match_target(target: Target, seed: int, entries: list[dict],
     return known, stale
 
 
+# the ports of a Yosys cell that carry a clock: Yosys's equivalence passes take
+# every flip-flop as one step whatever its edge, so they cannot judge a
+# mutation of these (a flip-flop clocked on the falling edge)
+CLOCK_PORTS = ("CLK", "RD_CLK", "WR_CLK")
+
+
+def equiv_check(target: Target, workdir: Path, index: int) -> tuple[str, float, list[str]]:
+    """Yosys's own equivalence check of the design and mutant ``index``: design.il read
+    twice, the ``mutate`` command applied to the second copy, then ``equiv_make``
+    (an ``$equiv`` cell for every register and output of the same name in both),
+    ``equiv_simple -seq 2`` and ``equiv_induct -seq 2``.  When no ``$equiv`` cell is
+    left unproven, every matched register and output is equal on every clock once
+    they are equal at power-up, so no test can tell the mutant from the design.
+    Returns (PASS | UNPROVEN | CLOCK | ERROR, seconds, the unproven signals); CLOCK:
+    the mutation is of a clock port, which these passes cannot judge."""
+    t0 = time.monotonic()
+    spec = [m for m in (workdir / "mutations.txt").read_text().splitlines()
+            if m.startswith("mutate ")][index - 1]
+    port = re.search(r"-port (\S+)", spec)
+    if port and port.group(1) in CLOCK_PORTS:
+        return "CLOCK", time.monotonic() - t0, []
+    d = workdir / "equiv" / f"m{index:04d}"
+    d.mkdir(parents=True, exist_ok=True)
+    try:
+        yosys(f"""read_rtlil {workdir / 'design.il'}
+rename {target.module} gold
+read_rtlil {workdir / 'design.il'}
+{spec}
+rename {target.module} gate
+proc
+opt_clean
+async2sync
+equiv_make gold gate equiv
+hierarchy -top equiv
+equiv_simple -seq 2
+equiv_induct -seq 2
+equiv_status
+""", d, "equiv_yosys")
+    except RuntimeError:
+        return "ERROR", time.monotonic() - t0, []
+    text = (d / "equiv_yosys.log").read_text()
+    found = re.search(r"Of those cells (\d+) are proven and (\d+) are unproven", text)
+    unproven = [name.lstrip("\\").removesuffix("_gold")
+                for name in re.findall(r"Unproven \$equiv \S+: (\S+) \S+", text)]
+    if found is None or int(found.group(1)) == 0:
+        return "ERROR", time.monotonic() - t0, unproven
+    status = "PASS" if int(found.group(2)) == 0 else "UNPROVEN"
+    return status, time.monotonic() - t0, unproven
+
+
 def run_module(target: Target, count: int, seed: int, simulator: str, jobs: int,
                only: list[int] | None = None, out: Path = OUT,
                entries: list[dict] | None = None, log=print, prove_depth: int = 0,
-               prove_timeout: int = 0) -> dict:
+               prove_timeout: int = 0, equiv: bool = False) -> dict:
     """Generate, build and run one module's mutants; returns its report."""
     workdir = out / target.module
     t0 = time.monotonic()
@@ -714,19 +771,35 @@ def run_module(target: Target, count: int, seed: int, simulator: str, jobs: int,
                 stale.append(f"listed equivalent but killed: {m.index} {m.command}")
     if not only:
         stale += [f"listed but not generated (RTL or Yosys changed): {c}" for c in unmatched]
-    proofs = {}
-    if prove_depth:
-        # survivors not in the list: is any input sequence able to tell them apart?
+    proofs, reasons = {}, {}
+    if equiv:
+        # survivors not in the list: do Yosys's equivalence passes prove them equal?
         for m in chosen:
             if m.status == "SURVIVED":
-                proofs[m.index], seconds = prove_equivalent(target, workdir, m.index, count,
-                                                            prove_depth, prove_timeout)
-                log(f"  equivalence of #{m.index}: {proofs[m.index]} ({seconds:.0f} s)")
-        proposed = [m for m in chosen if proofs.get(m.index) == "PASS"]
+                status, seconds, unproven = equiv_check(target, workdir, m.index)
+                proofs[m.index] = f"equiv {status}"
+                more = f": {', '.join(unproven[:4])}" if unproven else ""
+                log(f"  Yosys equivalence of #{m.index}: {status} ({seconds:.0f} s){more}")
+                if status == "PASS":
+                    reasons[m.index] = ("proven (Yosys equiv_make, equiv_simple -seq 2, "
+                                        "equiv_induct -seq 2): ")
+    if prove_depth:
+        # survivors not in the list and not proven above: is any input sequence able
+        # to tell them apart?
+        for m in chosen:
+            if m.status == "SURVIVED" and m.index not in reasons:
+                status, seconds = prove_equivalent(target, workdir, m.index, count,
+                                                   prove_depth, prove_timeout)
+                proofs[m.index] = status
+                log(f"  equivalence of #{m.index}: {status} ({seconds:.0f} s)")
+                if status == "PASS":
+                    reasons[m.index] = (f"proven (miter with the design, k-induction depth "
+                                        f"{prove_depth}): ")
+    if equiv or prove_depth:
+        proposed = [m for m in chosen if m.index in reasons]
 
         def key_line(m: Mutation) -> str:
             return f"key = {toml_string(m.key)}\n" if target.stable else ""
-        proven = toml_string(f"proven (miter with the design, k-induction depth {prove_depth}): ")
 
         (workdir / "equivalent-proposed.toml").write_text("".join(
             f"""
@@ -735,7 +808,7 @@ module = "{target.module}"
 parameters = {{ {', '.join(f'{k} = {v}' for k, v in target.parameters.items())} }}
 seed = {seed}
 mutation = {toml_string(m.command)}
-{key_line(m)}reason = {proven}
+{key_line(m)}reason = {toml_string(reasons[m.index])}
 """ for m in proposed))
     counts = {s: sum(1 for m in chosen if m.status == s)
               for s in ("KILLED", "SURVIVED", "EQUIVALENT")}
@@ -802,6 +875,11 @@ def main(argv=None) -> int:
                     help="check every unlisted survivor for equivalence with SymbiYosys "
                          "(k-induction of depth DEPTH, e.g. 40); proven ones are written to "
                          "<out>/<module>/equivalent-proposed.toml for the checked-in list")
+    ap.add_argument("--equiv", action="store_true",
+                    help="check every unlisted survivor with Yosys's equivalence passes "
+                         "(equiv_make, equiv_simple -seq 2, equiv_induct -seq 2; seconds per "
+                         "mutant, before --prove); proven ones are written to "
+                         "<out>/<module>/equivalent-proposed.toml")
     ap.add_argument("--prove-timeout", type=int, default=PROVE_TIMEOUT_S, metavar="SECONDS",
                     help=f"time limit of each equivalence proof (default {PROVE_TIMEOUT_S})")
     args = ap.parse_args(argv)
@@ -834,7 +912,7 @@ def main(argv=None) -> int:
             target = replace(target, testcases=tests)
         reports.append(run_module(target, args.count, args.seed, args.sim, args.jobs,
                                   only or None, out, entries, prove_depth=args.prove,
-                                  prove_timeout=args.prove_timeout))
+                                  prove_timeout=args.prove_timeout, equiv=args.equiv))
         out.mkdir(parents=True, exist_ok=True)
         (out / "report.json").write_text(json.dumps(reports, indent=2) + "\n")
     print(table(reports))
