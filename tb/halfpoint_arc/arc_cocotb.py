@@ -14,10 +14,12 @@ import random
 import cocotb
 
 from arcgen import (
-    arc_for_quadrants, full_circle, nearest_on_circle, octant_order_ends, short_arc, start_point,
+    arc_for_quadrants, full_circle, nearest_on_circle, octant_order_ends, range_edge_points,
+    short_arc, start_point,
 )
 from halfpoint.spec.arc import (
-    ERR_END_OFF, ERR_RADIUS_ZERO, ERR_RANGE, arc_points, limits, validate, validate_latency,
+    ERR_END_OFF, ERR_RADIUS_ZERO, ERR_RANGE, ArcRun, arc_points, limits, validate,
+    validate_latency,
 )
 from halfpoint.sim.arcbench import ArcBench
 from halfpoint.sim.design import read_parameters
@@ -126,7 +128,8 @@ async def radii_to_width_limit(dut):
 
 @cocotb.test()
 async def rejects_then_valid(dut):
-    """Each reject case makes no move, reports its code, and the next runs."""
+    """Each reject case makes no move, reports its code, and the next runs; a start
+    just inside the range limit runs."""
     bind(dut)
     bench = ArcBench(dut, W, seed=SEED + 31)
     await bench.start()
@@ -147,6 +150,17 @@ async def rejects_then_valid(dut):
         ((0, 5, 0, -5, 5), ERR_END_OFF),
         ((0, 1, 0, 2, 2), ERR_END_OFF),
     ]
+    # starts with R^2 within 4 of the limit: a short arc when at or below it, a
+    # reject above it
+    for x, y, above in range_edge_points(W):
+        if above > 0:
+            bad.append(((1, x, y, x, y), ERR_RANGE))
+            continue
+        run = ArcRun(x, y, x, y, 1, W)
+        for _ in range(3):
+            run.move()
+        assert validate(x, y, run.x, run.y, W) == 0
+        bad.append(((1, x, y, run.x, run.y), 0))
     good = (0, 7, 3, -3, 7)
     cmds = []
     for cmd, _ in bad:
@@ -156,7 +170,10 @@ async def rejects_then_valid(dut):
     for k, (cmd, code) in enumerate(bad):
         r_bad, r_good = results[2 * k], results[2 * k + 1]
         assert r_bad.rejected == code, f"{cmd}: code {r_bad.rejected}, expected {code}"
-        assert r_bad.moves == [], f"{cmd} moved"
+        if code:
+            assert r_bad.moves == [], f"{cmd} moved"
+        else:
+            assert r_bad.finished and len(r_bad.moves) == 3, f"{cmd}: {len(r_bad.moves)} moves"
         assert not r_good.rejected and r_good.finished
 
 
@@ -532,15 +549,18 @@ def crossing_end_commands(rng: random.Random, width: int) -> list[tuple]:
                     check.move()
             if check.done:
                 cmds.append((cw, xs, ys, xe, ye))
-    # radii 2^k .. 2^(k+1), k = 6..10: from a start whose v is 70 below the
+    # radii 2^k .. 2^(k+1), k = 6 .. min(16, W - 2): from a start whose v is 70 below the
     # radius (v climbs past ue - 65 .. ue - 1 before the axis) to the point
     # just after the crossing moved one BLU outward along its u axis (ue one
     # above the path's u there), when accepted
-    hits = dict.fromkeys(range(6, min(11, width - 2)), 0)
+    # (k up to 16 where the width allows: bit 14 of ue - 2 decides the look-ahead's
+    # v + 1 == ue at W = 16 only on radii of 2^14 and more, found by mutation
+    # testing; at 70 below, a radius of 2^17 costs about 4,300 moves)
+    hits = dict.fromkeys(range(6, min(17, width - 1)), 0)
     for k, _ in ((k, t) for k in hits for t in range(12)):
         if hits[k] == 2:                # two per k (of at most 12 tries)
             continue
-        r = rng.uniform(2 ** k, 2 ** (k + 1))
+        r = min(rng.uniform(2 ** k, 2 ** (k + 1)), rmax - 1)
         cw = rng.randint(0, 1)
         sense = -1 if cw else 1
         axis = rng.randrange(4) * math.pi / 2

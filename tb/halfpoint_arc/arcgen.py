@@ -197,3 +197,23 @@ def octant_order_ends(rng: random.Random, width: int) -> list[tuple[int, int, in
             if cmd is not None:
                 cmds.append(cmd)
     return cmds
+
+
+def range_edge_points(width: int, span: int = 4,
+                      tries: int = 100_000) -> list[tuple[int, int, int]]:
+    """Lattice points (x, y, R^2 - limit) whose R^2 = x^2 + y^2 is within ``span`` of
+    the largest accepted R^2, (M-1)(M-2), on either side (one point per R^2 that is
+    a sum of two squares, found among the ``tries`` largest x): the range check's
+    compare sees its low bits decide only there (found by mutation testing: bit 1
+    of R^2 inverted in the compare rejects R^2 = limit - 1, which the other tests
+    never offered; at W = 16 that is 30425^2 + 12164^2)."""
+    limit = limits(width)[1]
+    points = []
+    for r2 in range(limit - span, limit + span + 1):
+        top = math.isqrt(r2)
+        for x in range(top, max(top - tries, 0), -1):
+            y = math.isqrt(r2 - x * x)
+            if x * x + y * y == r2:
+                points.append((x, y, r2 - limit))
+                break
+    return points

@@ -9,7 +9,7 @@ import random
 import numpy as np
 import pytest
 
-from arcgen import OCTANT_FLIPS, flips, moves_with_order, octant_order_end
+from arcgen import OCTANT_FLIPS, flips, moves_with_order, octant_order_end, range_edge_points
 
 from halfpoint.spec.arc import (
     ERR_END_OFF, ERR_NONE, ERR_RADIUS_ZERO, ERR_RANGE, ArcRejected, ArcRun,
@@ -226,3 +226,46 @@ def test_octant_order_ends_cover_every_bit_from_3(width):
             moves = len(arc_points(xs, ys, xe, ye, cw, width)) - 1
             assert moves_with_order(cmd, ve <= ue, 64, width) == moves
             assert moves_with_order(cmd, ve > ue, 64, width) != moves
+
+
+def test_range_edge_points():
+    """range_edge_points finds starts at the range limit's edge: at W = 16 the
+    limit - 1 and - 2 (R^2 = limit - 1 is what kills the range compare with bit 1
+    of R^2 inverted) and one just above."""
+    limit = limits(16)[1]
+    points = range_edge_points(16)
+    assert (30425, 12164, -1) in points
+    assert {a for _, _, a in points} >= {-2, -1, 2}
+    for x, y, above in points:
+        assert x * x + y * y == limit + above
+        assert (validate(x, y, x, y, 16) == ERR_RANGE) == (above > 0)
+
+
+def test_no_entry_into_the_end_quadrant_before_a_second_octant_end():
+    """The ground of the arc's equivalent mutants #124 and #195: an arc entering
+    E's quadrant by a crossing, armed, with E in that quadrant's second octant
+    (ve > ue), never enters at u' < ue (past E in the order (-u, v)).  Above
+    R^2 = 32 it cannot (u' >= v > R - 1 at the crossing, 2 ue^2 < R^2 + 2R by the
+    end tolerance, so R - 1 < ue needs R < 5.65); every accepted arc below, with
+    its end anywhere within 8 BLU of the centre, is run here."""
+    width = 16
+    arcs = entries = 0
+    for xs in range(-6, 7):
+        for ys in range(-6, 7):
+            if not 0 < xs * xs + ys * ys < 40:
+                continue
+            for xe in range(-8, 9):
+                for ye in range(-8, 9):
+                    if validate(xs, ys, xe, ye, width):
+                        continue
+                    for cw in (0, 1):
+                        run = ArcRun(xs, ys, xe, ye, cw, width)
+                        arcs += 1
+                        while not run.done:
+                            q, armed = run.q, run.armed
+                            run.advance()
+                            if armed and q != run.qe and run.q == run.qe:
+                                entries += 1
+                                assert not (run.ve > run.ue and run.u < run.ue), \
+                                    (cw, xs, ys, xe, ye)
+    assert arcs > 10_000 and entries > 10_000

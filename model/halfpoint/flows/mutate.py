@@ -22,7 +22,7 @@ How (YosysHQ mcy's method, without mcy).  For each module:
    ``-src`` of another file: a bit of the core's cell whose net is named by
    a unit's port (the queue memory's read data on ``u_arc.s_ye``, say).  A
    target marked ``stable`` (the core, the step generator, the profile
-   stage, the line unit) draws its N from the whole candidate list by hashes
+   stage, the line and arc units) draws its N from the whole candidate list by hashes
    of what each mutation mutates (:func:`select_stable`), so that an RTL
    change redraws only the mutants of the cells it changes, not the whole
    sample.
@@ -165,7 +165,7 @@ TARGETS = {t.module: t for t in [
            why="W 8: extreme_deltas reaches the full range in 128 moves (random_program's "
                "deltas need W >= 9)", stable=True),
     Target("halfpoint_arc", ("halfpoint_arc",), {"W": 16}, "arc_cocotb",
-           extra_env={"HP_SEED": 1}, why="W 16, the narrowest width tested"),
+           extra_env={"HP_SEED": 1}, why="W 16, the narrowest width tested", stable=True),
     Target("halfpoint_profile", ("halfpoint_profile",), {"W": 16, "DIV": 5},
            "profile_cocotb",
            extra_env={"HP_SEED": 1, "HP_PROFILE_SCOPE": "u_mutants", "HP_PROFILE_LONG": 1},
