@@ -673,7 +673,8 @@ CLOCK_PORTS = ("CLK", "RD_CLK", "WR_CLK")
 
 def equiv_check(target: Target, workdir: Path, index: int) -> tuple[str, float, list[str]]:
     """Yosys's own equivalence check of the design and mutant ``index``: design.il read
-    twice, the ``mutate`` command applied to the second copy, then ``equiv_make``
+    twice, the ``mutate`` command applied to the second copy, memories mapped to
+    flip-flops (Yosys has no SAT model of a memory cell), then ``equiv_make``
     (an ``$equiv`` cell for every register and output of the same name in both),
     ``equiv_simple -seq 2`` and ``equiv_induct -seq 2``.  When no ``$equiv`` cell is
     left unproven, every matched register and output is equal on every clock once
@@ -695,6 +696,7 @@ read_rtlil {workdir / 'design.il'}
 {spec}
 rename {target.module} gate
 proc
+memory_map
 opt_clean
 async2sync
 equiv_make gold gate equiv
