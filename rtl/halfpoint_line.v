@@ -279,12 +279,11 @@ module halfpoint_line #(
     //              term E_i = 2 F_i + 2|d_i| - Max - 1 stays within its bounds
     //              [2|d_i| - 2 Max, 2|d_i| - 1];
     //   ends       (F_ENDS) at done, every axis has made exactly |d_i| steps,
-    //              never more before.  An induction would need the product
-    //              invariant F_i = n|d_i| - s_i Max, which did not close in
-    //              reasonable time, so the sby tasks ends_* check it bounded
-    //              (bmc) without the product: it relates monitor counters
-    //              only, and asserting it made each bmc step a multiplication
-    //              problem (the lean line unit's bmc did not finish with it);
+    //              never more before.  Proved (sby tasks endsp_*) by the product
+    //              invariant F_i = r_i Max - m |d_i| (r_i, m: steps and moves
+    //              left), its products free values under lemmas that true
+    //              products obey (see the F_ENDS block in the axis loop); the
+    //              task ends_na1_w8 also checks it bounded (bmc);
     //   outputs    move, step, done, reject are the registered views of the
     //              edge before.
     // Labels: a_* the contract, i_* invariants that tie the RTL state to the
@@ -422,6 +421,74 @@ module halfpoint_line #(
             wire [F_PW-1:0] f_ehold = {{(F_PW-W-1){1'b0}}, f_hhold, 1'b0};
             wire [F_PW-1:0] f_maxw  = {{(W+4){1'b0}}, f_run_max};
             wire [F_PW-1:0] f_absw  = {{(W+4){1'b0}}, f_abs};
+`ifdef F_ENDS
+            // The "ends" induction.  With m = Max - n moves and r = |d| - s steps
+            // left, F = n|d| - s Max = B - A, A = m |d|, B = r Max (i_dev_ab).  Then
+            // r = 0 at m >= 1 gives F = -A <= -|d|: no step (a_steps_le); at the last
+            // move A = |d| and F + |d| - step Max = Max (r - step), within
+            // (-Max/2, Max/2] (from E's bounds), so r = step (a_ends).  The products
+            // are the only nonlinear part: a bit-blasted multiplier kept k-induction
+            // from closing ((m - 1) |d| = m |d| - |d| across a clock), so A and B
+            // are free values (anyseq) constrained only by facts every true product
+            // obeys (lemmas below; an over-approximation, so sound).
+            // Ghost copies of m, r, |d|, Max at 2W bits, updated on every clock from
+            // the next-state values f_*_nx that the lemmas name (tied to the monitor
+            // by i_gm, i_gr, i_gd, i_gmax).
+            wire [2*W-1:0] f_slot_abs2 = {{W{1'b0}}, f_slot_abs[f_i*W +: W]};
+            wire [2*W-1:0] f_slot_max2 = {{W{1'b0}}, f_slot_max};
+            wire [2*W-1:0] f_step2     = {{(2*W-1){1'b0}}, steps[f_i]};
+            reg  [2*W-1:0] f_gm, f_gr, f_gd, f_gmax;
+            wire [2*W-1:0] f_gm_nx   = load ? f_slot_max2 : advance ? f_gm - 1'b1 : f_gm;
+            wire [2*W-1:0] f_gr_nx   = load ? f_slot_abs2 : advance ? f_gr - f_step2 : f_gr;
+            wire [2*W-1:0] f_gd_nx   = load ? f_slot_abs2 : f_gd;
+            wire [2*W-1:0] f_gmax_nx = load ? f_slot_max2 : f_gmax;
+            always @(posedge clk) begin
+                f_gm   <= f_gm_nx;
+                f_gr   <= f_gr_nx;
+                f_gd   <= f_gd_nx;
+                f_gmax <= f_gmax_nx;
+            end
+            // the products (2W bits, modulo 2^2W): A = gm gd and B = gmax gr of the
+            // registers, of their next-state values, Max |d| of the slot at load,
+            // and B after this clock's move (without a load)
+            (* anyseq *) wire [2*W-1:0] f_prod_a;
+            (* anyseq *) wire [2*W-1:0] f_prod_b;
+            (* anyseq *) wire [2*W-1:0] f_prod_a_nx;
+            (* anyseq *) wire [2*W-1:0] f_prod_b_nx;
+            (* anyseq *) wire [2*W-1:0] f_prod_load;
+            (* anyseq *) wire [2*W-1:0] f_prod_b_move;   // Max (r - step), a move's B
+            wire [2*W-1:0] f_gr_move = f_gr - f_step2;
+            localparam [2*W-1:0] F_LIM2 = {{(W-1){1'b0}}, 1'b1, {W{1'b0}}};  // 2^W
+            always @(*) begin
+                // distributivity of the next-state products: (m - 1) |d| = m |d| - |d|,
+                // Max (r - step) = r Max - step Max; at load both are Max |d|
+                assume(f_prod_a_nx == (load ? f_prod_load
+                                       : advance ? f_prod_a - f_gd : f_prod_a));
+                assume(f_prod_b_nx == (load ? f_prod_load
+                                       : advance ? f_prod_b - (steps[f_i] ? f_gmax : 0)
+                                       : f_prod_b));
+                // x y >= y for x >= 1 (x, y < 2^W: no overflow), 1 y = y, 0 y = 0
+                if (f_gm >= 1 && f_gm < F_LIM2 && f_gd < F_LIM2)
+                    assume(f_prod_a >= f_gd);
+                if (f_gr_nx >= 1 && f_gr_nx < F_LIM2 && f_gmax_nx < F_LIM2)
+                    assume(f_prod_b_nx >= f_gmax_nx);
+                if (f_gm == 1) assume(f_prod_a == f_gd);
+                assume(f_prod_b_move == f_prod_b - (steps[f_i] ? f_gmax : 0));
+                if (f_gr_move >= 1 && f_gr_move < F_LIM2 && f_gmax < F_LIM2)
+                    assume(f_prod_b_move >= f_gmax);
+                if (f_gm == 0) assume(f_prod_a == 0);
+                if (f_gr == 0) assume(f_prod_b == 0);
+                if (f_gr_nx == 0) assume(f_prod_b_nx == 0);
+                if (f_gm_nx == 0) assume(f_prod_a_nx == 0);
+            end
+            // congruence: a product of the registers is the product of their
+            // next-state values a clock before
+            always @(posedge clk)
+                if (f_past_valid) begin
+                    assume(f_prod_a == $past(f_prod_a_nx));
+                    assume(f_prod_b == $past(f_prod_b_nx));
+                end
+`endif
             // F, the deviation from the ideal line after n moves, kept by adding
             // |d| on every move and subtracting Max on every step
             reg  [F_PW-1:0] f_dev;
@@ -444,6 +511,14 @@ module halfpoint_line #(
                         assert(steps[f_i]);  // a_longest
                     end
 `ifdef F_ENDS
+                    // the ghosts are m, Max, |d| and r (r >= 0 by a_steps_le) ...
+                    assert(f_gm == {{W{1'b0}}, f_run_max - f_moves});  // i_gm
+                    assert(f_gmax == {{W{1'b0}}, f_run_max});  // i_gmax
+                    assert(f_gd == {{W{1'b0}}, f_abs});  // i_gd
+                    assert(f_gr == {{W{1'b0}}, f_abs - f_s});  // i_gr
+                    // ... and F = r Max - m |d| (the product invariant, linear in A, B)
+                    assert(f_dev == {{(F_PW-2*W){1'b0}}, f_prod_b}
+                                    - {{(F_PW-2*W){1'b0}}, f_prod_a});  // i_dev_ab
                     assert(f_s <= f_abs);  // a_steps_le
                     if (last) begin
                         assert(f_s + {{(W-1){1'b0}}, steps[f_i]} == f_abs);  // a_ends

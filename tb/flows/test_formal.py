@@ -115,11 +115,15 @@ def test_core_push_when_full_fails_with_trace(tmp_path):
 
 
 def test_line_quick_task_is_the_induction_proof():
+    """make test proves the line unit's properties, "ends" included, by induction."""
     tasks = formal.sby_tasks(formal.FORMAL / "halfpoint_line.sby")
-    assert "quick" in tasks["prove_na2_w8"]
-    opts = formal.task_options(formal.setup_formal_env(BUILD / "test_formal"),
-                               formal.FORMAL / "halfpoint_line.sby", "prove_na2_w8")
-    assert opts["mode"] == "prove"
+    env = formal.setup_formal_env(BUILD / "test_formal")
+    for task in ("prove_na2_w8", "endsp_na2_w8"):
+        assert "quick" in tasks[task], task
+        opts = formal.task_options(env, formal.FORMAL / "halfpoint_line.sby", task)
+        assert opts["mode"] == "prove", task
+    assert "endsp" in tasks["endsp_na2_w8"]
+    assert "endsp: read -define F_ENDS" in (formal.FORMAL / "halfpoint_line.sby").read_text()
 
 
 def test_a_yosys_warning_fails_the_proof(tmp_path):

@@ -132,6 +132,12 @@ MUTANTS = [
            "assign s_ready = !abort_now;",
            ("prove_na2_w8",),
            "a command taken while another is validated or pending (one is lost)"),
+    Mutant("line_short_axis_last", "halfpoint_line", "rtl/halfpoint_line.v",
+           "assign steps[i] = !e_axis[DATA_W-1];",
+           "assign steps[i] = !e_axis[DATA_W-1] && (moves_left_q != ONE_W"
+           " || e_half_step_q[i*W +: W] == {W{1'b0}});",
+           ("ends_na2_w8",),
+           "an axis shorter than the longest never steps on the last move (a step short)"),
     Mutant("line_moves_short", "halfpoint_line", "rtl/halfpoint_line.v",
            "moves_left_q <= max_abs_q;", "moves_left_q <= max_abs_q - ONE_W;",
            ("ends_na1_w8",),
