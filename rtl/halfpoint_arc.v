@@ -752,6 +752,11 @@ module halfpoint_arc #(
     //   codes      (F_CODES) the reject codes against the squarer's sums as it
     //              ends them (taken in SUM): each check, the code given, and
     //              at the load what range_w8 assumes there (with a_load_ok);
+    //   free squares (F_SQUARES_FREE with F_LOAD_CIRCLE, the tasks range_sq_*)
+    //              the range's proof with u^2, v^2 and the start's squares as
+    //              free values under lemmas true squares obey (next u^2 after
+    //              u - 1 is u^2 - 2u + 1, ...): no multiplier, so it closes at
+    //              W = 16 too;
     //   squaring   (F_SQUARING, F_SQUARING_K = k) the squaring registers after
     //              k clocks against the shift-and-add partial sums of the
     //              command's magnitudes (linear: no product in the induction),
@@ -1075,9 +1080,15 @@ module halfpoint_arc #(
     wire [F_PW-1:0]   f_uw = {{(F_PW-W){1'b0}}, u_q};
     wire [F_PW-1:0]   f_vw = {{(F_PW-W){1'b0}}, v_q};
     wire [F_PW-1:0]   f_fw = {{(F_PW-DATA_W){f_q[DATA_W-1]}}, f_q};   // F, sign-extended
-    // u^2 and v^2 (W x W -> 2W bits)
+    // u^2 and v^2 (W x W -> 2W bits); F_SQUARES_FREE (the tasks range_sq_*):
+    // free values constrained by lemmas (see the block F_LOAD_CIRCLE)
+`ifdef F_SQUARES_FREE
+    (* anyseq *) wire [2*W-1:0] f_u_sq;
+    (* anyseq *) wire [2*W-1:0] f_v_sq;
+`else
     wire [2*W-1:0]    f_u_sq = u_q * u_q;
     wire [2*W-1:0]    f_v_sq = v_q * v_q;
+`endif
     wire [W-1:0]      f_xmag = u_is_x ? u_q : v_q;
     wire [W-1:0]      f_ymag = u_is_x ? v_q : u_q;
     // the run stage's registers hold the arc's point while it runs and in the
@@ -1152,16 +1163,102 @@ module halfpoint_arc #(
     // them there, a_load_ok and a_load_u, against the squarer's sums, which
     // squaring_k9_w8 and square_w8 prove to be xs^2 + ys^2); from them
     // F = u^2 + v^2 - R^2, the bound and the range 1 <= u <= M - 2,
-    // v <= M - 2 are proven together.
+    // v <= M - 2 are proven together.  With F_SQUARES_FREE (range_sq_*) the
+    // squares are free values under lemmas true squares obey (block below).
     reg  [F_PW-1:0] f_load_r2;
+`ifdef F_SQUARES_FREE
+    (* anyseq *) wire [2*W-1:0] f_pend_u_sq;               // pend_u^2, pend_v^2 (lemmas)
+    (* anyseq *) wire [2*W-1:0] f_pend_v_sq;
+`else
     wire [2*W-1:0]  f_pend_u_sq = pend_u_q * pend_u_q;     // 2W bits (the context's)
     wire [2*W-1:0]  f_pend_v_sq = pend_v_q * pend_v_q;
+`endif
     wire [F_PW-1:0] f_pend_r2 = {4'b0000, f_pend_u_sq} + {4'b0000, f_pend_v_sq};
     always @(posedge clk)
         if (load) f_load_r2 <= f_pend_r2;
     always @(*)
         if (f_past_valid && !rst && load)
             f_load_range: assume(f_pend_r2 <= F_R2_MAX && pend_u_q != {W{1'b0}});
+`ifdef F_SQUARES_FREE
+    // ---- the squares as free values (F_SQUARES_FREE, the tasks range_sq_*) ----
+    // With bit-blasted multipliers the solver must find (u - 1)^2 = u^2 - 2u + 1
+    // inside them, and the induction did not close above W = 8 (range_w10: 10
+    // minutes).  Here u^2, v^2 (f_u_sq, f_v_sq), the squares of their
+    // next-state values (f_u_sq_nx, f_v_sq_nx) and of the pending start
+    // (f_pend_u_sq, f_pend_v_sq) are free values (anyseq) constrained ONLY by
+    // the facts below, each true of the real squares (of W-bit values, exact
+    // in 2W bits: x^2 <= (2^W - 1)^2 < 2^2W).  True squares satisfy them all,
+    // so the proof covers the real design (an over-approximation: sound).
+    (* anyseq *) wire [2*W-1:0] f_u_sq_nx;
+    (* anyseq *) wire [2*W-1:0] f_v_sq_nx;
+    wire [2*W-1:0] f_u2 = {{W{1'b0}}, u_q};               // u, v at 2W bits
+    wire [2*W-1:0] f_v2 = {{W{1'b0}}, v_q};
+    wire [2*W-1:0] f_one2 = {{(2*W-1){1'b0}}, 1'b1};
+    wire           f_v_top = (v_q == {W{1'b1}});          // v + 1 would wrap
+    // (M - 1)(M - 2) + M - 1 = (M - 1)^2 and the bound M - 1, at 2W bits
+    localparam [2*W-1:0] F_M1 = {{(W+1){1'b0}}, {(W-1){1'b1}}};            // M - 1
+    localparam [2*W-1:0] F_M1_SQ = {2'b00, {(W-2){1'b1}}, {(W-1){1'b0}}, 1'b1};
+    // x^2 >= x (x^2 - x = x (x - 1) >= 0 for every integer x); x^2 + 1 >= 2x
+    // ((x - 1)^2 >= 0; at 2W + 1 bits, no wrap: so u^2 - 2u + 1 does not wrap
+    // either); and for x >= M - 1: x^2 >= (M - 1)^2 (squaring is increasing
+    // on x >= 0); 0^2 = 0, 1^2 = 1 (a crossing leaves u = 1)
+    function f_sq_facts;
+        input [W-1:0]   f_x;
+        input [2*W-1:0] f_x_sq;
+        begin
+            f_sq_facts = (f_x_sq >= {{W{1'b0}}, f_x})
+                         && ({1'b0, f_x_sq} + 1'b1 >= {{W{1'b0}}, f_x, 1'b0})
+                         && ({{W{1'b0}}, f_x} < F_M1 || f_x_sq >= F_M1_SQ)
+                         && (f_x != {W{1'b0}} || f_x_sq == {(2*W){1'b0}})
+                         && (f_x != ONE_W || f_x_sq == {{(2*W-1){1'b0}}, 1'b1});
+        end
+    endfunction
+    always @(*) begin
+        // the next-state squares, by the register's next value (load first,
+        // as in the RTL; u_q, v_q hold without load or advance):
+        if (load) begin
+            // u' = pend_u, v' = pend_v: their squares (the same values)
+            f_sq_load_u: assume(f_u_sq_nx == f_pend_u_sq);
+            f_sq_load_v: assume(f_v_sq_nx == f_pend_v_sq);
+        end else if (!advance) begin
+            // unchanged registers, unchanged squares
+            f_sq_hold_u: assume(f_u_sq_nx == f_u_sq);
+            f_sq_hold_v: assume(f_v_sq_nx == f_v_sq);
+        end else if (crossing) begin
+            // relabelling (u', v') = (v + move_a, 0): u'^2 = v^2 (move B) or
+            // (v + 1)^2 = v^2 + 2v + 1 (move A, v + 1 < 2^W: no wrap in u_n);
+            // v'^2 = 0^2 = 0
+            if (!move_a)
+                f_sq_cross_b: assume(f_u_sq_nx == f_v_sq);
+            else if (!f_v_top)
+                f_sq_cross_a: assume(f_u_sq_nx == f_v_sq + (f_v2 << 1) + f_one2);
+            f_sq_cross_v: assume(f_v_sq_nx == {(2*W){1'b0}});
+        end else begin
+            // u' = u - 1 (u >= 1: no wrap): (u - 1)^2 = u^2 - 2u + 1; else u' = u
+            if (!u_down)
+                f_sq_u_same: assume(f_u_sq_nx == f_u_sq);
+            else if (u_q != {W{1'b0}})
+                f_sq_u_down: assume(f_u_sq_nx == f_u_sq - (f_u2 << 1) + f_one2);
+            // v' = v + 1 (v + 1 < 2^W): (v + 1)^2 = v^2 + 2v + 1; else v' = v
+            if (!v_up)
+                f_sq_v_same: assume(f_v_sq_nx == f_v_sq);
+            else if (!f_v_top)
+                f_sq_v_up:   assume(f_v_sq_nx == f_v_sq + (f_v2 << 1) + f_one2);
+        end
+        // monotonicity facts of each square of a register or of the slot
+        f_sq_mono_u: assume(f_sq_facts(u_q, f_u_sq));
+        f_sq_mono_v: assume(f_sq_facts(v_q, f_v_sq));
+        f_sq_mono_pu: assume(f_sq_facts(pend_u_q, f_pend_u_sq));
+        f_sq_mono_pv: assume(f_sq_facts(pend_v_q, f_pend_v_sq));
+    end
+    // congruence: the square of a register is the square of its next-state
+    // value a clock before (the register is that value)
+    always @(posedge clk)
+        if (f_past_valid) begin
+            f_sq_next_u: assume(f_u_sq == $past(f_u_sq_nx));
+            f_sq_next_v: assume(f_v_sq == $past(f_v_sq_nx));
+        end
+`endif
 `ifdef F_INCREMENTS_PAST
     // The increment invariants are assumed at the clock before only: this task
     // proves "increments up to t - 1 => circle, bound and range up to t", and

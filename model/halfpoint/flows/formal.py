@@ -167,9 +167,23 @@ MUTANTS = [
            "the move rule's A and C swapped (every register updated consistently for the "
            "move made: only F's bound sees the point leave the circle)"),
     Mutant("arc_a_for_c_range", "halfpoint_arc", "rtl/halfpoint_arc.v", *ARC_A_FOR_C,
-           ("range_w8",),
+           ("range_w8", "range_sq_w8"),
            "as arc_a_for_c: the induction of the circle, bound and range no longer closes "
-           "(the bound breaks)",
+           "(the bound breaks; also with the squares free, range_sq_w8)",
+           "NOPROOF"),
+    Mutant("arc_cross_b_to_v_plus1", "halfpoint_arc", "rtl/halfpoint_arc.v",
+           "+ (crossing ? {{(W-1){1'b0}}, move_a} : {W{u_down}});",
+           "+ (crossing ? {{(W-1){1'b0}}, move_b} : {W{u_down}});",
+           ("range_sq_w8",),
+           "a crossing relabels u' = v + 1 after a B move and v after an A move (swapped): "
+           "the point leaves the circle, and the free squares' induction must not close",
+           "NOPROOF"),
+    Mutant("arc_radius_max_loose", "halfpoint_arc", "rtl/halfpoint_arc.v",
+           "(ONE_SQUARE << (2*W-2)) - (THREE_SQUARE << (W-1)) + (ONE_SQUARE << 1);",
+           "(ONE_SQUARE << (2*W-2)) - (ONE_SQUARE << W) + ONE_SQUARE;",
+           ("range_sq_w8",),
+           "the largest accepted R^2 raised from (M-1)(M-2) to (M-1)^2: a start at u = M - 1 "
+           "is out of the range (the free squares' lemmas must still see it)",
            "NOPROOF"),
     Mutant("arc_never_armed", "halfpoint_arc", "rtl/halfpoint_arc.v",
            "armed_q          <= armed_q || crossing;",
