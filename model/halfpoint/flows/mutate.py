@@ -518,6 +518,13 @@ endmodule
 """
 
 
+def mutation_command(workdir: Path, index: int) -> str:
+    """The ``mutate`` command of mutant ``index`` (1-based) in the work directory's
+    mutations.txt."""
+    return [m for m in (workdir / "mutations.txt").read_text().splitlines()
+            if m.startswith("mutate ")][index - 1]
+
+
 def prove_equivalent(target: Target, workdir: Path, index: int, count: int,
                      depth: int, timeout: int = 0) -> tuple[str, float]:
     """mcy's equivalence check: SymbiYosys k-induction on the miter of the
@@ -531,8 +538,7 @@ def prove_equivalent(target: Target, workdir: Path, index: int, count: int,
     d = workdir / "equiv" / f"m{index:04d}"
     d.mkdir(parents=True, exist_ok=True)
     (d / "miter.sv").write_text(miter_text(ports(workdir, target.module), index))
-    spec = [m for m in (workdir / "mutations.txt").read_text().splitlines()
-            if m.startswith("mutate ")][index - 1]
+    spec = mutation_command(workdir, index)
     (d / "equiv.sby").write_text(f"""[options]
 mode prove
 depth {depth}
@@ -682,10 +688,8 @@ def equiv_check(target: Target, workdir: Path, index: int) -> tuple[str, float, 
     Returns (PASS | UNPROVEN | CLOCK | ERROR, seconds, the unproven signals); CLOCK:
     the mutation is of a clock port, which these passes cannot judge."""
     t0 = time.monotonic()
-    spec = [m for m in (workdir / "mutations.txt").read_text().splitlines()
-            if m.startswith("mutate ")][index - 1]
-    port = re.search(r"-port (\S+)", spec)
-    if port and port.group(1) in CLOCK_PORTS:
+    spec = mutation_command(workdir, index)
+    if Mutation(index, spec).option("port") in CLOCK_PORTS:
         return "CLOCK", time.monotonic() - t0, []
     d = workdir / "equiv" / f"m{index:04d}"
     d.mkdir(parents=True, exist_ok=True)
