@@ -206,13 +206,23 @@ module halfpoint_arc #(
     reg                 radius_zero_q, radius_too_big_q, end_outside_q, end_inside_q;
     // terms of the frame set-up: 3v and 2(v - u) of the start point
     reg  [DATA_W-1:0]   init_v_times3_q, init_v_minus_u_twice_q;
+    // the frame comparator's last difference (see prepare below), W + 1 bits
+    // signed: both operands are magnitudes below 2^W
+    reg  [W:0]          compare_difference_q;
 
     // pending command, in run-stage form: D1 and the three increments of
     // three terms (P3, G3, Q4); D2, Q1, Q2 and G1, each one carry chain from
     // u or v, are computed by the load (see the run stage), as are the end
     // point's ue + 1, ue + 2, ue - 2 and ve - 2
     reg  [1:0]        pend_quad_q, pend_end_quad_q;
-    reg  [W-1:0]      pend_u_q, pend_v_q, pend_ue_q, pend_ve_q;
+    // the start's and the end's u (the other magnitude is v), from their
+    // quadrants at the accepting edge; the magnitudes stay in abs_*_q, which
+    // hold the command until it leaves the pending slot
+    reg               start_u_is_x_q, end_u_is_x_q;
+    wire [W-1:0]      pend_u  = start_u_is_x_q ? abs_xs_q : abs_ys_q;
+    wire [W-1:0]      pend_v  = start_u_is_x_q ? abs_ys_q : abs_xs_q;
+    wire [W-1:0]      pend_ue = end_u_is_x_q ? abs_xe_q : abs_ye_q;
+    wire [W-1:0]      pend_ve = end_u_is_x_q ? abs_ye_q : abs_xe_q;
     reg  [DATA_W-1:0] pend_d1_q;
     reg  [DATA_W-1:0] pend_d_add_a_q, pend_d2_add_b_cross_q, pend_f_add_a_q;
     reg               pend_armed_q, pend_first_octant_q, pend_ve_zero_q;
@@ -249,15 +259,24 @@ module halfpoint_arc #(
 
     // The validator's work is spread so that each clock does at most one
     // add (of three operands, in SQUARE) or compare: the frame set-up of the
-    // pending slot runs in the first four squaring clocks (W >= 8 of them;
+    // pending slot runs in the first seven squaring clocks (W >= 8 of them;
     // the pending slot is free then, as a command is taken only when the
     // previous one has left it), the squaring registers end as the sums of
     // squares (SUM is an idle clock, kept for the timing at the ports), and
-    // CHECK registers the three checks.
-    wire       prepare_frame = (validator_state_q == STATE_SQUARE) && (square_count_q == 6'd0);
-    wire       prepare_terms = (validator_state_q == STATE_SQUARE) && (square_count_q == 6'd1);
-    wire       prepare_sums  = (validator_state_q == STATE_SQUARE) && (square_count_q == 6'd2);
-    wire       prepare_d1    = (validator_state_q == STATE_SQUARE) && (square_count_q == 6'd3);
+    // CHECK registers the three checks.  By squaring clock (count):
+    //   0: R = 0   1: 3v and 2(v - u)   2: P3, G3, Q4   3: D1 = G3 + ~v
+    // and one subtractor, the comparator, takes one pair per clock
+    //   1: v - ve   2: u - ue   3: v - ue   4: ve - ue   5: |xs| - |ys|
+    // with the flags registered from its difference a clock later (counts
+    // 2 to 6; the armed flag, which needs them all, at 6).
+    wire       squaring      = (validator_state_q == STATE_SQUARE);
+    wire       prepare_at_0  = squaring && (square_count_q == 6'd0);
+    wire       prepare_at_1  = squaring && (square_count_q == 6'd1);
+    wire       prepare_at_2  = squaring && (square_count_q == 6'd2);
+    wire       prepare_at_3  = squaring && (square_count_q == 6'd3);
+    wire       prepare_at_4  = squaring && (square_count_q == 6'd4);
+    wire       prepare_at_5  = squaring && (square_count_q == 6'd5);
+    wire       prepare_at_6  = squaring && (square_count_q == 6'd6);
 
     // CHECK: a - b > t, as the sign of a + ~b + ~t + 1 = a - b - t - 1, with
     // the three operands reduced to two by a carry-save step (one LUT level
@@ -281,21 +300,35 @@ module halfpoint_arc #(
         end
     endfunction
 
+    // the start's and the end's quadrant, taken at the accepting edge
+    wire [1:0] accept_start_quad = quadrant_of(s_cw, s_xs, s_ys);
+    wire [1:0] accept_end_quad   = quadrant_of(s_cw, s_xe, s_ye);
     wire [1:0] decide_error = radius_zero_q ? 2'd1 : radius_too_big_q ? 2'd2
                             : (end_outside_q || end_inside_q) ? 2'd3 : 2'd0;
-    wire [1:0] start_quad   = quadrant_of(cmd_cw_q, cmd_xs_q, cmd_ys_q);
-    wire       start_u_is_x = (start_quad[0] == cmd_cw_q);
-    wire       end_u_is_x   = (pend_end_quad_q[0] == cmd_cw_q);
 
-    // frame set-up: armed flag from the progress order
-    wire       init_first_octant = (pend_ve_q <= pend_ue_q);
-    wire       init_v_before = (pend_v_q < pend_ve_q) ||
-                               (pend_v_q == pend_ve_q && pend_u_q > pend_ue_q);
-    wire       init_u_before = (pend_u_q > pend_ue_q) ||
-                               (pend_u_q == pend_ue_q && pend_v_q < pend_ve_q);
-    wire       init_before   = init_first_octant ? init_v_before : init_u_before;
-    wire [DATA_W-1:0] init_u = {2'b00, pend_u_q};
-    wire [DATA_W-1:0] init_v = {2'b00, pend_v_q};
+    wire [DATA_W-1:0] init_u = {2'b00, pend_u};
+    wire [DATA_W-1:0] init_v = {2'b00, pend_v};
+
+    // the comparator (schedule above) and what its difference tells
+    wire [W-1:0] compare_a = (square_count_q == 6'd2) ? pend_u
+                           : (square_count_q == 6'd4) ? pend_ve
+                           : (square_count_q == 6'd5) ? abs_xs_q
+                           : pend_v;
+    wire [W-1:0] compare_b = (square_count_q == 6'd1) ? pend_ve
+                           : (square_count_q == 6'd5) ? abs_ys_q
+                           : pend_ue;
+    wire         compare_negative = compare_difference_q[W];
+    wire         compare_zero     = (compare_difference_q == {(W+1){1'b0}});
+    wire         compare_minus1   = (compare_difference_q == {(W+1){1'b1}});
+    wire         compare_plus1    = (compare_difference_q == {{W{1'b0}}, 1'b1});
+
+    // frame set-up: armed flag from the progress order, from the flags
+    // (v < ve, u > ue: neither of the other two)
+    wire       init_v_before = (!pend_v_gt_ve_q && !pend_v_eq_ve_q) ||
+                               (pend_v_eq_ve_q && !pend_u_lt_ue_q && !pend_u_eq_ue_q);
+    wire       init_u_before = (!pend_u_lt_ue_q && !pend_u_eq_ue_q) ||
+                               (pend_u_eq_ue_q && !pend_v_gt_ve_q && !pend_v_eq_ve_q);
+    wire       init_before   = pend_first_octant_q ? init_v_before : init_u_before;
 
     // run-stage handshake with the pending slot (defined below)
     wire       load;
@@ -341,8 +374,11 @@ module halfpoint_arc #(
             cmd_xs_q <= s_xs;
             cmd_ys_q <= s_ys;
             // the pending slot is free at an accepting edge (the previous
-            // command has left it), so the end quadrant goes there at once
-            pend_end_quad_q <= quadrant_of(s_cw, s_xe, s_ye);
+            // command has left it), so the quadrants go there at once
+            pend_quad_q     <= accept_start_quad;
+            pend_end_quad_q <= accept_end_quad;
+            start_u_is_x_q  <= (accept_start_quad[0] == s_cw);
+            end_u_is_x_q    <= (accept_end_quad[0] == s_cw);
             abs_xs_q <= magnitude(s_xs);
             abs_ys_q <= magnitude(s_ys);
             abs_xe_q <= magnitude(s_xe);
@@ -352,7 +388,7 @@ module halfpoint_arc #(
             multiplier_ys_q <= magnitude(s_ys);
             multiplier_ye_q <= magnitude(s_ye);
         end
-        if (validator_state_q == STATE_SQUARE) begin
+        if (squaring) begin
             radius_square_q <= squares_step(radius_square_q, abs_xs_q, multiplier_ys_q[0],
                                             abs_ys_q);
             end_square_q    <= squares_step(end_square_q, abs_xe_q, multiplier_ye_q[0],
@@ -360,46 +396,48 @@ module halfpoint_arc #(
             multiplier_ys_q <= multiplier_ys_q >> 1;
             multiplier_ye_q <= multiplier_ye_q >> 1;
         end
-        if (prepare_frame) begin
-            tolerance_q     <= {((abs_xs_q > abs_ys_q) ? abs_xs_q : abs_ys_q), 1'b0};
+        if (squaring)
+            compare_difference_q <= {1'b0, compare_a} - {1'b0, compare_b};
+        if (prepare_at_0)
             radius_zero_q   <= (abs_xs_q == {W{1'b0}}) && (abs_ys_q == {W{1'b0}});
-            pend_quad_q     <= start_quad;
-            pend_u_q        <= start_u_is_x ? abs_xs_q : abs_ys_q;
-            pend_v_q        <= start_u_is_x ? abs_ys_q : abs_xs_q;
-            pend_ue_q       <= end_u_is_x ? abs_xe_q : abs_ye_q;
-            pend_ve_q       <= end_u_is_x ? abs_ye_q : abs_xe_q;
-        end
-        if (prepare_terms) begin
+        if (prepare_at_1) begin
             // F = 0 at the start point
             init_v_times3_q       <= init_v + (init_v << 1);
             init_v_minus_u_twice_q <= (init_v - init_u) << 1;
-            pend_first_octant_q   <= init_first_octant;
-            pend_armed_q          <= !((pend_quad_q == pend_end_quad_q) && !init_before);
-            pend_ve_zero_q        <= (pend_ve_q == {W{1'b0}});
-            pend_ve_one_q         <= (pend_ve_q == ONE_W);
-            pend_ue_zero_q        <= (pend_ue_q == {W{1'b0}});
-            pend_ue_one_q         <= (pend_ue_q == ONE_W);
-            pend_u_one_q          <= (pend_u_q == ONE_W);
-            pend_v_gt_ve_q        <= (pend_v_q > pend_ve_q);
-            pend_v_eq_ve_q        <= (pend_v_q == pend_ve_q);
-            pend_u_lt_ue_q        <= (pend_u_q < pend_ue_q);
-            pend_u_eq_ue_q        <= (pend_u_q == pend_ue_q);
-            pend_v_lt_ue_q        <= (pend_v_q < pend_ue_q);
-            pend_v_eq_ue_q        <= (pend_v_q == pend_ue_q);
+            pend_ve_zero_q        <= (pend_ve == {W{1'b0}});
+            pend_ve_one_q         <= (pend_ve == ONE_W);
+            pend_ue_zero_q        <= (pend_ue == {W{1'b0}});
+            pend_ue_one_q         <= (pend_ue == ONE_W);
+            pend_u_one_q          <= (pend_u == ONE_W);
         end
-        if (prepare_sums) begin
+        // magnitudes are at most 2^(W-1): the differences do not wrap, and
+        // v + 1 == ve (a difference of -1) implies ve != 0
+        if (prepare_at_2) begin
             pend_d_add_a_q        <= init_v_minus_u_twice_q + FIVE_D;       // P3
             pend_f_add_a_q        <= init_v_minus_u_twice_q + TWO_D;        // G3
             pend_d2_add_b_cross_q <= ZERO_D - init_v_times3_q;              // Q4
-            // magnitudes are at most 2^(W-1): v + 1 and ue + 1 do not wrap
-            // (and v + 1 == ve implies ve != 0)
-            pend_v_plus1_eq_ve_q  <= (pend_v_q + ONE_W == pend_ve_q);
-            pend_u_eq_ue_plus1_q  <= (pend_u_q == pend_ue_q + ONE_W);
-            pend_v_plus1_eq_ue_q  <= (pend_v_q + ONE_W == pend_ue_q);
+            pend_v_gt_ve_q        <= !compare_negative && !compare_zero;    // v - ve
+            pend_v_eq_ve_q        <= compare_zero;
+            pend_v_plus1_eq_ve_q  <= compare_minus1;
         end
-        if (prepare_d1) begin
+        if (prepare_at_3) begin
             // D1 = F - 2u + v + 1 = G3 - v - 1 = G3 + ~v (F = 0)
             pend_d1_q             <= pend_f_add_a_q + ~init_v;
+            pend_u_lt_ue_q        <= compare_negative;                      // u - ue
+            pend_u_eq_ue_q        <= compare_zero;
+            pend_u_eq_ue_plus1_q  <= compare_plus1;
+        end
+        if (prepare_at_4) begin
+            pend_v_lt_ue_q        <= compare_negative;                      // v - ue
+            pend_v_eq_ue_q        <= compare_zero;
+            pend_v_plus1_eq_ue_q  <= compare_minus1;
+        end
+        if (prepare_at_5)
+            pend_first_octant_q   <= compare_negative || compare_zero;      // ve <= ue
+        if (prepare_at_6) begin
+            tolerance_q           <= {(!compare_negative && !compare_zero) ? abs_xs_q
+                                                                          : abs_ys_q, 1'b0};
+            pend_armed_q          <= !((pend_quad_q == pend_end_quad_q) && !init_before);
         end
         if (validator_state_q == STATE_CHECK) begin
             radius_too_big_q <= ({1'b0, radius_square_q} > RADIUS_SQUARE_MAX);
@@ -567,10 +605,10 @@ module halfpoint_arc #(
     // kept in the pending slot (F = 0 there; ~a = -a - 1 modulo 2^(W+2)):
     //   D2 = 2v - u + 1 = {v, 1} + ~u + 1     Q1 = 2 - 2u = ~(2u) + 3
     //   Q2 = 2v + 3                           G1 = 1 - 2u = ~(2u) + 2
-    wire [DATA_W-1:0] load_u_twice  = {1'b0, pend_u_q, 1'b0};
-    wire [DATA_W-1:0] load_d2       = {1'b0, pend_v_q, 1'b1} - {2'b00, pend_u_q};
+    wire [DATA_W-1:0] load_u_twice  = {1'b0, pend_u, 1'b0};
+    wire [DATA_W-1:0] load_d2       = {1'b0, pend_v, 1'b1} - {2'b00, pend_u};
     wire [DATA_W-1:0] load_d2_add_b = ~load_u_twice + THREE_D;
-    wire [DATA_W-1:0] load_d2_add_c = {1'b0, pend_v_q, 1'b0} + THREE_D;
+    wire [DATA_W-1:0] load_d2_add_c = {1'b0, pend_v, 1'b0} + THREE_D;
     wire [DATA_W-1:0] load_f_add_b  = ~load_u_twice + TWO_D;
 
     assign load = hold_q && start_en && !abort_now && !run_q;     // only into an idle stage
@@ -599,15 +637,15 @@ module halfpoint_arc #(
             cw_q             <= cmd_cw_q;
             quad_q           <= pend_quad_q;
             end_quad_q       <= pend_end_quad_q;
-            u_q              <= pend_u_q;
-            v_q              <= pend_v_q;
-            ue_plus1_q       <= pend_ue_q + ONE_W;
+            u_q              <= pend_u;
+            v_q              <= pend_v;
+            ue_plus1_q       <= pend_ue + ONE_W;
             ve_zero_q        <= pend_ve_zero_q;
             first_octant_q   <= pend_first_octant_q;
             armed_q          <= pend_armed_q;
-            ue_plus2_q       <= pend_ue_q + TWO_W;
-            ue_minus2_q      <= pend_ue_q - TWO_W;
-            ve_minus2_q      <= pend_ve_q - TWO_W;
+            ue_plus2_q       <= pend_ue + TWO_W;
+            ue_minus2_q      <= pend_ue - TWO_W;
+            ve_minus2_q      <= pend_ve - TWO_W;
             ve_one_q         <= pend_ve_one_q;
             ue_zero_q        <= pend_ue_zero_q;
             ue_one_q         <= pend_ue_one_q;
@@ -923,6 +961,9 @@ module halfpoint_arc #(
     wire f_after1 = (validator_state_q > STATE_SQUARE) || (f_square && square_count_q >= 6'd2);
     wire f_after2 = (validator_state_q > STATE_SQUARE) || (f_square && square_count_q >= 6'd3);
     wire f_after3 = (validator_state_q > STATE_SQUARE) || (f_square && square_count_q >= 6'd4);
+    wire f_after4 = (validator_state_q > STATE_SQUARE) || (f_square && square_count_q >= 6'd5);
+    wire f_after5 = (validator_state_q > STATE_SQUARE) || (f_square && square_count_q >= 6'd6);
+    wire f_after6 = (validator_state_q > STATE_SQUARE) || (f_square && square_count_q >= 6'd7);
     always @(*)
         if (f_past_valid && !rst) begin
             a_ready_empty: assert(!s_ready || (!f_slot_valid && !abort_now));
@@ -947,7 +988,7 @@ module halfpoint_arc #(
                 // with a_load_ok (R^2 <= (M-1)(M-2): u^2 + v^2 in range_w8,
                 // the same sum as xs^2 + ys^2, i_uv), what range_w8 assumes
                 // at the load (f_load_range): u >= 1
-                a_load_u: assert(pend_u_q != {W{1'b0}});
+                a_load_u: assert(pend_u != {W{1'b0}});
 `endif
             end
             // validation: W clocks of squaring, sum, check, decide, init, hold
@@ -1026,7 +1067,12 @@ module halfpoint_arc #(
                                && abs_ys_q == magnitude(f_slot_ys));
             i_abs_e:    assert(abs_xe_q == magnitude(f_slot_xe)
                                && abs_ye_q == magnitude(f_slot_ye));
+            // the frames, from the accepting edge
             i_end_quad: assert(pend_end_quad_q == f_end_quad);
+            i_quad:     assert(pend_quad_q == f_start_quad);
+            i_u_is_x:   assert(start_u_is_x_q == f_start_ux && end_u_is_x_q == f_end_ux);
+            i_uv:       assert(pend_u == f_pu && pend_v == f_pv);
+            i_uve:      assert(pend_ue == f_pue && pend_ve == f_pve);
 `ifdef F_CODES
             // in CHECK the squaring registers still hold the sums of SUM
             if (validator_state_q == STATE_CHECK) begin
@@ -1034,14 +1080,11 @@ module halfpoint_arc #(
                 i_e2: assert(end_square_q == f_sum_e2_q);
             end
 `endif
-            if (f_after0) begin
+            if (f_after6)
+                i_tol:   assert({{(F_PW-W-1){1'b0}}, tolerance_q} == f_slot_tol);
+            if (f_after0)
                 i_zero:  assert(radius_zero_q == (f_slot_xs == {W{1'b0}}
                                                   && f_slot_ys == {W{1'b0}}));
-                i_tol:   assert({{(F_PW-W-1){1'b0}}, tolerance_q} == f_slot_tol);
-                i_quad:  assert(pend_quad_q == f_start_quad);
-                i_uv:    assert(pend_u_q == f_pu && pend_v_q == f_pv);
-                i_uve:   assert(pend_ue_q == f_pue && pend_ve_q == f_pve);
-            end
 `ifdef F_CODES
             if (validator_state_q >= STATE_DECIDE) begin
                 i_too_big: assert(radius_too_big_q == (f_slot_r2 > F_R2_MAX));
@@ -1072,6 +1115,18 @@ module halfpoint_arc #(
                 i_p_g3:  assert(pend_f_add_a_q == ((f_pvd - f_pud) << 1) + TWO_D);
                 i_p_q4:  assert(pend_d2_add_b_cross_q == ZERO_D - f_pvd - (f_pvd << 1));
             end
+            // the comparator's difference in the clock after each of its steps
+            if (f_square && square_count_q == 6'd2)
+                i_c_v_ve:  assert(compare_difference_q == {1'b0, f_pv} - {1'b0, f_pve});
+            if (f_square && square_count_q == 6'd3)
+                i_c_u_ue:  assert(compare_difference_q == {1'b0, f_pu} - {1'b0, f_pue});
+            if (f_square && square_count_q == 6'd4)
+                i_c_v_ue:  assert(compare_difference_q == {1'b0, f_pv} - {1'b0, f_pue});
+            if (f_square && square_count_q == 6'd5)
+                i_c_ve_ue: assert(compare_difference_q == {1'b0, f_pve} - {1'b0, f_pue});
+            if (f_square && square_count_q == 6'd6)
+                i_c_xs_ys: assert(compare_difference_q == {1'b0, magnitude(f_slot_xs)}
+                                                          - {1'b0, magnitude(f_slot_ys)});
         end
 
     // ---- the run stage: increments, circle, frame ----
@@ -1170,15 +1225,15 @@ module halfpoint_arc #(
     (* anyseq *) wire [2*W-1:0] f_pend_u_sq;               // pend_u^2, pend_v^2 (lemmas)
     (* anyseq *) wire [2*W-1:0] f_pend_v_sq;
 `else
-    wire [2*W-1:0]  f_pend_u_sq = pend_u_q * pend_u_q;     // 2W bits (the context's)
-    wire [2*W-1:0]  f_pend_v_sq = pend_v_q * pend_v_q;
+    wire [2*W-1:0]  f_pend_u_sq = pend_u * pend_u;     // 2W bits (the context's)
+    wire [2*W-1:0]  f_pend_v_sq = pend_v * pend_v;
 `endif
     wire [F_PW-1:0] f_pend_r2 = {4'b0000, f_pend_u_sq} + {4'b0000, f_pend_v_sq};
     always @(posedge clk)
         if (load) f_load_r2 <= f_pend_r2;
     always @(*)
         if (f_past_valid && !rst && load)
-            f_load_range: assume(f_pend_r2 <= F_R2_MAX && pend_u_q != {W{1'b0}});
+            f_load_range: assume(f_pend_r2 <= F_R2_MAX && pend_u != {W{1'b0}});
 `ifdef F_SQUARES_FREE
     // ---- the squares as free values (F_SQUARES_FREE, the tasks range_sq_*) ----
     // With bit-blasted multipliers the solver must find (u - 1)^2 = u^2 - 2u + 1
@@ -1248,8 +1303,8 @@ module halfpoint_arc #(
         // monotonicity facts of each square of a register or of the slot
         f_sq_mono_u: assume(f_sq_facts(u_q, f_u_sq));
         f_sq_mono_v: assume(f_sq_facts(v_q, f_v_sq));
-        f_sq_mono_pu: assume(f_sq_facts(pend_u_q, f_pend_u_sq));
-        f_sq_mono_pv: assume(f_sq_facts(pend_v_q, f_pend_v_sq));
+        f_sq_mono_pu: assume(f_sq_facts(pend_u, f_pend_u_sq));
+        f_sq_mono_pv: assume(f_sq_facts(pend_v, f_pend_v_sq));
     end
     // congruence: the square of a register is the square of its next-state
     // value a clock before (the register is that value)
@@ -1297,8 +1352,8 @@ module halfpoint_arc #(
             f_crossings      <= 3'd0;
             f_first_quad     <= pend_quad_q;
             f_load_armed     <= pend_armed_q;
-            f_u_entry        <= pend_u_q;
-            f_v_entry        <= pend_v_q;
+            f_u_entry        <= pend_u;
+            f_v_entry        <= pend_v;
             f_quadrant_moves <= {F_MW{1'b0}};
         end else if (advance) begin
             if (crossing) begin
@@ -1318,7 +1373,7 @@ module halfpoint_arc #(
     wire [F_MW-1:0] f_made = ({{(F_MW-W){1'b0}}, f_u_entry} - {{(F_MW-W){1'b0}}, u_q})
                            + ({{(F_MW-W){1'b0}}, v_q} - {{(F_MW-W){1'b0}}, f_v_entry});
     always @(*)
-        if (f_past_valid && !rst && f_slot_valid && f_after1)
+        if (f_past_valid && !rst && f_slot_valid && f_after6)
             // a pending arc not armed starts in its end's quadrant
             i_e_pend:    assert(pend_armed_q || pend_quad_q == pend_end_quad_q);
     always @(*)
@@ -1393,27 +1448,33 @@ module halfpoint_arc #(
                     : (f_un < f_ue || (f_un == f_ue && f_vn >= f_ve)));
     wire       f_leaves = (quad_q == end_quad_q) && (quad_n != end_quad_q);
     // the pending slot's flags, against its u, v and E
-    wire [W:0] f_pu_w = {1'b0, pend_u_q}, f_pv_w = {1'b0, pend_v_q};
-    wire [W:0] f_pue_w = {1'b0, pend_ue_q}, f_pve_w = {1'b0, pend_ve_q};
+    wire [W:0] f_pu_w = {1'b0, pend_u}, f_pv_w = {1'b0, pend_v};
+    wire [W:0] f_pue_w = {1'b0, pend_ue}, f_pve_w = {1'b0, pend_ve};
+    // (each flag from the clock after the comparator's step that sets it)
     always @(*)
-        if (f_past_valid && !rst && f_slot_valid && f_after1) begin
-            i_s_p_first: assert(pend_first_octant_q == (f_pve_w <= f_pue_w)
-                                && f_pue_w <= F_MAG_HALF && f_pve_w <= F_MAG_HALF);
-            i_s_p_const: assert(pend_ve_zero_q == (f_pve_w == 0) && pend_ve_one_q == (f_pve_w == 1)
-                                && pend_ue_zero_q == (f_pue_w == 0)
-                                && pend_ue_one_q == (f_pue_w == 1));
-            i_s_p_v:     assert(pend_v_gt_ve_q == (f_pv_w > f_pve_w)
-                                && pend_v_eq_ve_q == (f_pv_w == f_pve_w)
-                                && pend_u_lt_ue_q == (f_pu_w < f_pue_w)
-                                && pend_u_eq_ue_q == (f_pu_w == f_pue_w)
-                                && pend_v_lt_ue_q == (f_pv_w < f_pue_w)
-                                && pend_v_eq_ue_q == (f_pv_w == f_pue_w));
+        if (f_past_valid && !rst && f_slot_valid) begin
+            if (f_after0)
+                i_s_p_mag:   assert(f_pue_w <= F_MAG_HALF && f_pve_w <= F_MAG_HALF);
+            if (f_after1)
+                i_s_p_const: assert(pend_ve_zero_q == (f_pve_w == 0)
+                                    && pend_ve_one_q == (f_pve_w == 1)
+                                    && pend_ue_zero_q == (f_pue_w == 0)
+                                    && pend_ue_one_q == (f_pue_w == 1));
+            if (f_after2)
+                i_s_p_v_ve:  assert(pend_v_gt_ve_q == (f_pv_w > f_pve_w)
+                                    && pend_v_eq_ve_q == (f_pv_w == f_pve_w)
+                                    && pend_v_plus1_eq_ve_q == (f_pv_w + 1'b1 == f_pve_w));
+            if (f_after3)
+                i_s_p_u_ue:  assert(pend_u_lt_ue_q == (f_pu_w < f_pue_w)
+                                    && pend_u_eq_ue_q == (f_pu_w == f_pue_w)
+                                    && pend_u_eq_ue_plus1_q == (f_pu_w == f_pue_w + 1'b1));
+            if (f_after4)
+                i_s_p_v_ue:  assert(pend_v_lt_ue_q == (f_pv_w < f_pue_w)
+                                    && pend_v_eq_ue_q == (f_pv_w == f_pue_w)
+                                    && pend_v_plus1_eq_ue_q == (f_pv_w + 1'b1 == f_pue_w));
+            if (f_after5)
+                i_s_p_first: assert(pend_first_octant_q == (f_pve_w <= f_pue_w));
         end
-    always @(*)
-        if (f_past_valid && !rst && f_slot_valid && f_after2)
-            i_s_p_plus1: assert(pend_v_plus1_eq_ve_q == (f_pv_w + 1'b1 == f_pve_w)
-                                && pend_u_eq_ue_plus1_q == (f_pu_w == f_pue_w + 1'b1)
-                                && pend_v_plus1_eq_ue_q == (f_pv_w + 1'b1 == f_pue_w));
     always @(*)
         if (f_past_valid && !rst && run_q) begin
             // E's magnitudes are at most 2^(W-1) (no wrap in ue + 1, ue + 2)

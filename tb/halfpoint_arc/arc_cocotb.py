@@ -7,6 +7,7 @@ coordinate width is read from the design (its parameter W).
 
 from __future__ import annotations
 
+import itertools
 import math
 import os
 import random
@@ -728,6 +729,25 @@ async def start_past_end(dut):
     results, stats = await run_accepted(dut, bench, cmds, "start past end")
     for r in results:
         assert len(r.moves) > 2000, f"{r.cmd}: {len(r.moves)} moves, not the long way round"
+
+
+@cocotb.test()
+async def every_small_arc(dut):
+    """Every command with its start and end coordinates in -2..2 that the
+    validator accepts, in both directions (888 arcs): ends on and just off
+    the circle on either side of the start, in every quadrant and octant
+    relation, so that each of the pending slot's flags (v against ve, u
+    against ue, v against ue: <, = and one apart) decides the arming or the
+    stop somewhere (found by mutation testing: a mutant that took u < ue for
+    u > ue in the start's progress order survived every other test)."""
+    bind(dut)
+    bench = ArcBench(dut, W, seed=SEED + 103)
+    await bench.start()
+    cmds = [(cw, xs, ys, xe, ye) for cw in (0, 1)
+            for xs, ys, xe, ye in itertools.product(range(-2, 3), repeat=4)
+            if validate(xs, ys, xe, ye, W) == 0]
+    assert len(cmds) == 888
+    await run_accepted(dut, bench, cmds, "every small arc", valid_idle=0.05)
 
 
 @cocotb.test()

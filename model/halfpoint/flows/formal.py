@@ -212,6 +212,12 @@ MUTANTS = [
            "the look-ahead flag v = ve wrong after a quadrant crossing (v' = 0 taken as "
            "v' = 1)",
            "NOPROOF"),
+    Mutant("arc_compare_wrong_pair", "halfpoint_arc", "rtl/halfpoint_arc.v",
+           "wire [W-1:0] compare_b = (square_count_q == 6'd1) ? pend_ve",
+           "wire [W-1:0] compare_b = (square_count_q == 6'd1) ? pend_ue",
+           ("bmc_w8",),
+           "the validator's shared comparator compares v with ue instead of ve in its "
+           "first step (the pending flags v > ve, v = ve, v + 1 = ve wrong)"),
     Mutant("arc_square_wrong_bit", "halfpoint_arc", "rtl/halfpoint_arc.v",
            "(p[0] ? {2'b00, a} : {(W+2){1'b0}})", "(p[1] ? {2'b00, a} : {(W+2){1'b0}})",
            ("squaring_k1_w8",),
