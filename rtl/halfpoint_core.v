@@ -918,7 +918,6 @@ module halfpoint_core #(
     // ------------------------------------------------------------------
     // STEP/DIR generators and positions
     // ------------------------------------------------------------------
-    localparam [W-1:0] POSITION_ONE = {{(W-1){1'b0}}, 1'b1};
     genvar a;
     generate
         for (a = 0; a < NA; a = a + 1) begin : g_axis
@@ -948,8 +947,8 @@ module halfpoint_core #(
                 if (rst) begin
                     pos[a*W +: W] <= {W{1'b0}};
                 end else if (go && head_step[a]) begin
-                    pos[a*W +: W] <= head_dir[a] ? pos[a*W +: W] + POSITION_ONE
-                                                 : pos[a*W +: W] - POSITION_ONE;
+                    // + 1 or + (2^W - 1): one adder, not an adder and a subtractor
+                    pos[a*W +: W] <= pos[a*W +: W] + {{(W-1){!head_dir[a]}}, 1'b1};
                 end
             end
         end
@@ -1159,7 +1158,7 @@ module halfpoint_core #(
             // (the generator busy with STEP inactive)
             reg          f_active_q;
             reg  [W-1:0] f_pins_q;
-            wire [W-1:0] f_sign = f_positive[fa] ? POSITION_ONE : {W{1'b1}};
+            wire [W-1:0] f_sign = {{(W-1){!f_positive[fa]}}, 1'b1};    // + 1 or - 1
             wire         f_begins = f_active[fa] && !f_active_q;
             wire         f_waits = stepgen_busy[fa] && !f_active[fa];
             wire [W-1:0] f_pins = f_pins_q + (f_begins ? f_sign : {W{1'b0}});

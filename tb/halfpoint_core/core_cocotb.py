@@ -126,6 +126,8 @@ async def mixed_program(dut):
         if k == 60:         # an axis pair out of range, and one axis twice (E_FIELD)
             cmds.append(enc.encode_arc(0, -5, 0, 0, 5, plane=(0, NA)))
             cmds.append(enc.encode_arc(0, -5, 0, 0, 5, plane=(1, 1)))
+            # axis 0 twice: a mutant that read u = 0 as 4 in u != v survived
+            cmds.append(enc.encode_arc(0, -5, 0, 0, 5, plane=(0, 0)))
     if W < 32:
         cmds.append(enc.encode_line([1 << (W - 1)] + [0] * (NA - 1)))  # out of the width
     prog = plan(rng, cmds)

@@ -271,8 +271,8 @@ MUTANTS = [
            "after a pop the head's flags are the popped command's (a command dispatched "
            "as another kind)"),
     Mutant("core_position_wrong_way", "halfpoint_core", "rtl/halfpoint_core.v",
-           "? pos[a*W +: W] + POSITION_ONE",
-           "? pos[a*W +: W] - POSITION_ONE",
+           "pos[a*W +: W] + {{(W-1){!head_dir[a]}}, 1'b1}",
+           "pos[a*W +: W] + {{(W-1){1'b1}}, 1'b1}",
            ("steps_na2",),
            "a positive step counted as negative (positions no longer the pins' steps)"),
     Mutant("core_popped_axis_ready", "halfpoint_core", "rtl/halfpoint_core.v",
