@@ -955,15 +955,14 @@ module halfpoint_arc #(
     end
 
     // ---- handshake, no loss, validation ----
-    wire f_square = (validator_state_q == STATE_SQUARE);
     // the validator has passed the first, second, third squaring clock
-    wire f_after0 = (validator_state_q > STATE_SQUARE) || (f_square && square_count_q >= 6'd1);
-    wire f_after1 = (validator_state_q > STATE_SQUARE) || (f_square && square_count_q >= 6'd2);
-    wire f_after2 = (validator_state_q > STATE_SQUARE) || (f_square && square_count_q >= 6'd3);
-    wire f_after3 = (validator_state_q > STATE_SQUARE) || (f_square && square_count_q >= 6'd4);
-    wire f_after4 = (validator_state_q > STATE_SQUARE) || (f_square && square_count_q >= 6'd5);
-    wire f_after5 = (validator_state_q > STATE_SQUARE) || (f_square && square_count_q >= 6'd6);
-    wire f_after6 = (validator_state_q > STATE_SQUARE) || (f_square && square_count_q >= 6'd7);
+    wire f_after0 = (validator_state_q > STATE_SQUARE) || (squaring && square_count_q >= 6'd1);
+    wire f_after1 = (validator_state_q > STATE_SQUARE) || (squaring && square_count_q >= 6'd2);
+    wire f_after2 = (validator_state_q > STATE_SQUARE) || (squaring && square_count_q >= 6'd3);
+    wire f_after3 = (validator_state_q > STATE_SQUARE) || (squaring && square_count_q >= 6'd4);
+    wire f_after4 = (validator_state_q > STATE_SQUARE) || (squaring && square_count_q >= 6'd5);
+    wire f_after5 = (validator_state_q > STATE_SQUARE) || (squaring && square_count_q >= 6'd6);
+    wire f_after6 = (validator_state_q > STATE_SQUARE) || (squaring && square_count_q >= 6'd7);
     always @(*)
         if (f_past_valid && !rst) begin
             a_ready_empty: assert(!s_ready || (!f_slot_valid && !abort_now));
@@ -992,7 +991,7 @@ module halfpoint_arc #(
 `endif
             end
             // validation: W clocks of squaring, sum, check, decide, init, hold
-            if (f_square) begin
+            if (squaring) begin
                 a_square_time: assert(f_slot_age == square_count_q);
                 i_square_last: assert(square_count_q <= SQUARE_LAST[5:0]);
             end
@@ -1029,7 +1028,7 @@ module halfpoint_arc #(
             wire [F_PW-1:0] f_e2_part = (f_axe >> F_KS)
                 + (f_squares(f_axe, f_aye, F_KS) << (W - F_KS));
             wire f_now = f_past_valid && !rst && f_slot_valid
-                         && ((f_square && square_count_q == f_k) || (f_k == W && f_sum_state)
+                         && ((squaring && square_count_q == f_k) || (f_k == W && f_sum_state)
                              || (f_k == W + 1 && f_summed));
             wire f_held = (f_k == W + 1)
                 ? ({3'b000, f_sum_r2_q} == f_r2_part && {3'b000, f_sum_e2_q} == f_e2_part)
@@ -1070,7 +1069,6 @@ module halfpoint_arc #(
             // the frames, from the accepting edge
             i_end_quad: assert(pend_end_quad_q == f_end_quad);
             i_quad:     assert(pend_quad_q == f_start_quad);
-            i_u_is_x:   assert(start_u_is_x_q == f_start_ux && end_u_is_x_q == f_end_ux);
             i_uv:       assert(pend_u == f_pu && pend_v == f_pv);
             i_uve:      assert(pend_ue == f_pue && pend_ve == f_pve);
 `ifdef F_CODES
@@ -1116,15 +1114,15 @@ module halfpoint_arc #(
                 i_p_q4:  assert(pend_d2_add_b_cross_q == ZERO_D - f_pvd - (f_pvd << 1));
             end
             // the comparator's difference in the clock after each of its steps
-            if (f_square && square_count_q == 6'd2)
+            if (squaring && square_count_q == 6'd2)
                 i_c_v_ve:  assert(compare_difference_q == {1'b0, f_pv} - {1'b0, f_pve});
-            if (f_square && square_count_q == 6'd3)
+            if (squaring && square_count_q == 6'd3)
                 i_c_u_ue:  assert(compare_difference_q == {1'b0, f_pu} - {1'b0, f_pue});
-            if (f_square && square_count_q == 6'd4)
+            if (squaring && square_count_q == 6'd4)
                 i_c_v_ue:  assert(compare_difference_q == {1'b0, f_pv} - {1'b0, f_pue});
-            if (f_square && square_count_q == 6'd5)
+            if (squaring && square_count_q == 6'd5)
                 i_c_ve_ue: assert(compare_difference_q == {1'b0, f_pve} - {1'b0, f_pue});
-            if (f_square && square_count_q == 6'd6)
+            if (squaring && square_count_q == 6'd6)
                 i_c_xs_ys: assert(compare_difference_q == {1'b0, magnitude(f_slot_xs)}
                                                           - {1'b0, magnitude(f_slot_ys)});
         end
