@@ -1266,11 +1266,22 @@ module halfpoint_arc #(
                          && (f_x != ONE_W || f_x_sq == {{(2*W-1){1'b0}}, 1'b1});
         end
     endfunction
+    // Each case below also names the next value it squares (f_u_claim,
+    // f_v_claim), and f_claim_u / f_claim_v check those against the registers
+    // a clock later (the tasks sqclaims_*, with every other assertion and
+    // assumption removed: the claims hold in every state).  So a change of the
+    // RTL's u_n, v_n or of the registers' load and advance that the lemmas do
+    // not follow fails there, instead of leaving range_sq's proof unsound.
+    reg [W-1:0] f_u_claim, f_v_claim;
     always @(*) begin
+        f_u_claim = u_q;
+        f_v_claim = v_q;
         // the next-state squares, by the register's next value (load first,
         // as in the RTL; u_q, v_q hold without load or advance):
         if (load) begin
             // u' = pend_u, v' = pend_v: their squares (the same values)
+            f_u_claim = pend_u;
+            f_v_claim = pend_v;
             f_sq_load_u: assume(f_u_sq_nx == f_pend_u_sq);
             f_sq_load_v: assume(f_v_sq_nx == f_pend_v_sq);
         end else if (!advance) begin
@@ -1281,6 +1292,8 @@ module halfpoint_arc #(
             // relabelling (u', v') = (v + move_a, 0): u'^2 = v^2 (move B) or
             // (v + 1)^2 = v^2 + 2v + 1 (move A, v + 1 < 2^W: no wrap in u_n);
             // v'^2 = 0^2 = 0
+            f_u_claim = v_q + {{(W-1){1'b0}}, move_a};
+            f_v_claim = {W{1'b0}};
             if (!move_a)
                 f_sq_cross_b: assume(f_u_sq_nx == f_v_sq);
             else if (!f_v_top)
@@ -1288,15 +1301,21 @@ module halfpoint_arc #(
             f_sq_cross_v: assume(f_v_sq_nx == {(2*W){1'b0}});
         end else begin
             // u' = u - 1 (u >= 1: no wrap): (u - 1)^2 = u^2 - 2u + 1; else u' = u
-            if (!u_down)
+            if (!u_down) begin
                 f_sq_u_same: assume(f_u_sq_nx == f_u_sq);
-            else if (u_q != {W{1'b0}})
-                f_sq_u_down: assume(f_u_sq_nx == f_u_sq - (f_u2 << 1) + f_one2);
+            end else begin
+                f_u_claim = u_q - ONE_W;
+                if (u_q != {W{1'b0}})
+                    f_sq_u_down: assume(f_u_sq_nx == f_u_sq - (f_u2 << 1) + f_one2);
+            end
             // v' = v + 1 (v + 1 < 2^W): (v + 1)^2 = v^2 + 2v + 1; else v' = v
-            if (!v_up)
+            if (!v_up) begin
                 f_sq_v_same: assume(f_v_sq_nx == f_v_sq);
-            else if (!f_v_top)
-                f_sq_v_up:   assume(f_v_sq_nx == f_v_sq + (f_v2 << 1) + f_one2);
+            end else begin
+                f_v_claim = v_q + ONE_W;
+                if (!f_v_top)
+                    f_sq_v_up:   assume(f_v_sq_nx == f_v_sq + (f_v2 << 1) + f_one2);
+            end
         end
         // monotonicity facts of each square of a register or of the slot
         f_sq_mono_u: assume(f_sq_facts(u_q, f_u_sq));
@@ -1310,6 +1329,17 @@ module halfpoint_arc #(
         if (f_past_valid) begin
             f_sq_next_u: assume(f_u_sq == $past(f_u_sq_nx));
             f_sq_next_v: assume(f_v_sq == $past(f_v_sq_nx));
+        end
+    // the registers are the values the cases claimed a clock before
+    reg [W-1:0] f_u_claim_q, f_v_claim_q;
+    always @(posedge clk) begin
+        f_u_claim_q <= f_u_claim;
+        f_v_claim_q <= f_v_claim;
+    end
+    always @(*)
+        if (f_past_valid) begin
+            f_claim_u: assert(u_q == f_u_claim_q);
+            f_claim_v: assert(v_q == f_v_claim_q);
         end
 `endif
 `ifdef F_INCREMENTS_PAST

@@ -114,6 +114,19 @@ def test_core_push_when_full_fails_with_trace(tmp_path):
     assert "a_push_room" in " ".join(r.failed), r.failed
 
 
+def test_arc_square_lemmas_follow_the_rtl(tmp_path):
+    """The free squares' lemmas (range_sq) restate the arc's u_n and v_n by cases:
+    an RTL change they do not follow (v' = 1 after a crossing, the lemma still
+    squaring 0) fails sqclaims_w8 on the claimed value, with a trace."""
+    tasks = formal.sby_tasks(formal.FORMAL / "halfpoint_arc.sby")
+    assert "quick" in tasks["sqclaims_w8"] and "quick" in tasks["sqclaims_w32"]
+    m = next(m for m in formal.MUTANTS if m.name == "arc_crossing_v_one")
+    (r,) = formal.run_mutant(m, tmp_path / "mut")
+    assert r.status == "FAIL", r
+    assert r.traces and Path(r.traces[0]).exists()
+    assert "f_claim_v" in " ".join(r.failed), r.failed
+
+
 def test_line_quick_task_is_the_induction_proof():
     """make test proves the line unit's properties, "ends" included, by induction."""
     tasks = formal.sby_tasks(formal.FORMAL / "halfpoint_line.sby")

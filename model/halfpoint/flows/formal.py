@@ -174,10 +174,17 @@ MUTANTS = [
     Mutant("arc_cross_b_to_v_plus1", "halfpoint_arc", "rtl/halfpoint_arc.v",
            "+ (crossing ? {{(W-1){1'b0}}, move_a} : {W{u_down}});",
            "+ (crossing ? {{(W-1){1'b0}}, move_b} : {W{u_down}});",
-           ("range_sq_w8",),
+           ("range_sq_w8", "sqclaims_w8"),
            "a crossing relabels u' = v + 1 after a B move and v after an A move (swapped): "
-           "the point leaves the circle, and the free squares' induction must not close",
+           "the point leaves the circle, and the free squares' induction must not close "
+           "(nor their claimed next u hold)",
            "NOPROOF"),
+    Mutant("arc_crossing_v_one", "halfpoint_arc", "rtl/halfpoint_arc.v",
+           "wire [W-1:0] v_n    = crossing ? {W{1'b0}} :",
+           "wire [W-1:0] v_n    = crossing ? ONE_W :",
+           ("sqclaims_w8",),
+           "a crossing leaves v' = 1 instead of 0, which the free squares' lemmas (v'^2 = 0) "
+           "do not follow: their claimed next value must fail against the register"),
     Mutant("arc_radius_max_loose", "halfpoint_arc", "rtl/halfpoint_arc.v",
            "(ONE_SQUARE << (2*W-2)) - (THREE_SQUARE << (W-1)) + (ONE_SQUARE << 1);",
            "(ONE_SQUARE << (2*W-2)) - (ONE_SQUARE << W) + ONE_SQUARE;",
