@@ -1069,6 +1069,7 @@ module halfpoint_arc #(
             // the frames, from the accepting edge
             i_end_quad: assert(pend_end_quad_q == f_end_quad);
             i_quad:     assert(pend_quad_q == f_start_quad);
+            i_u_is_x:   assert(start_u_is_x_q == f_start_ux && end_u_is_x_q == f_end_ux);
             i_uv:       assert(pend_u == f_pu && pend_v == f_pv);
             i_uve:      assert(pend_ue == f_pue && pend_ve == f_pve);
 `ifdef F_CODES
