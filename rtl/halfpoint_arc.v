@@ -955,7 +955,7 @@ module halfpoint_arc #(
     end
 
     // ---- handshake, no loss, validation ----
-    // the validator has passed the first, second, third squaring clock
+    // f_afterK: the validator has passed its squaring clock K (count K + 1 on)
     wire f_after0 = (validator_state_q > STATE_SQUARE) || (squaring && square_count_q >= 6'd1);
     wire f_after1 = (validator_state_q > STATE_SQUARE) || (squaring && square_count_q >= 6'd2);
     wire f_after2 = (validator_state_q > STATE_SQUARE) || (squaring && square_count_q >= 6'd3);
