@@ -1004,11 +1004,13 @@ module halfpoint_core #(
     // ========================================================================
     // The .sby reads this file and the step generators' with FORMAL (the
     // generators' own proven properties then hold here too, and their
-    // invariants help the induction); the arc, line, helix, profile and
-    // outputs modules are read without it: their inputs come from this
-    // module, and their properties assume things of their inputs that are
-    // proven separately.  Every input is free on every clock (rst high on the
-    // first) except the pin polarities, which are setup values: constant.
+    // invariants help the induction); the arc, line, helix and outputs
+    // modules are read without it: their inputs come from this module, and
+    // their properties assume things of their inputs that are proven
+    // separately.  The profile stage is read with it in the composed proofs
+    // (compose_*), its assumptions about its inputs asserted.  Every input
+    // is free on every clock (rst high on the first) except the pin
+    // polarities, which are setup values: constant.
     // Asserted (a_* the contract, i_* invariants for the induction):
     //   queue    a beat is pushed only while the queue has room; the
     //            dispatcher pops only a present command, each pop for exactly
@@ -1030,9 +1032,14 @@ module halfpoint_core #(
     // until it is loaded or rejected, validated within W + 5 clocks, and a
     // unit loads or rejects only the command handed to it (none lost,
     // duplicated or run by the wrong unit between the dispatcher and the
-    // units); once the profile stage holds at rest under a hold, no step is
-    // requested while the hold stays high.  F_LINE_COST_BLU (bounded checks
-    // only) assumes PROFILE line costs of at least one BLU.
+    // units).  F_REST (the bounded check, and the composed proofs, which
+    // read the profile stage with its properties and turn its assumptions
+    // about the next profile into assertions): every profile in the queue,
+    // in force and in the profile queue obeys the profile stage's rules, and
+    // once the profile stage holds at rest under a hold (from the hold's
+    // second clock), no step is requested while the hold stays high.
+    // F_LINE_COST_BLU (bounded checks only) assumes PROFILE line costs of at
+    // least one BLU.
     reg f_past_valid;
     initial f_past_valid = 1'b0;
     always @(posedge clk)
@@ -1221,14 +1228,97 @@ module halfpoint_core #(
                                   (in_flight_q && !f_to_arc_q));
         end
     end
-    // once the profile stage holds at rest under a hold, no step is
-    // requested while the hold stays high
-    reg f_rest_q;
-    always @(posedge clk)
-        f_rest_q <= !rst && ((stage_holding && hold) || (f_rest_q && hold));
+`endif
+`ifdef F_REST
+    // ---- profiles: the profile stage's input rules, kept from the input ----
+    // (the composed proofs turn the profile stage's assumptions about its
+    // next profile, f_rule_*, into assertions; these invariants carry the
+    // input's check, E_PROFILE_FIELD, through the queue, the profile in
+    // force and the profile queue)
+    wire [PQ_INDEX_W+1:0] f_pq_sum = {1'b0, pq_read_q} + {1'b0, pq_count_q};
+    wire [PQ_INDEX_W:0]   f_pq_wrap = (f_pq_sum >= PROFILE_DEPTH)
+                                      ? f_pq_sum - PROFILE_DEPTH : f_pq_sum;
+    function f_profile_ok;
+        input [PROFILE_W-1:0] profile;
+        begin
+            f_profile_ok = (profile[97:64] != 34'd0) && (profile[63:32] <= profile[31:0]) &&
+                           (profile[116 + DW +: DW] <= profile[116 +: DW]);
+        end
+    endfunction
+    genvar fp;
+    generate
+        for (fp = 0; fp < DEPTH; fp = fp + 1) begin : g_f_profile_slot
+            wire [INDEX_W-1:0] f_offset = fp[INDEX_W-1:0] - read_index_q;
+            wire f_queued = ({1'b0, f_offset} < count_q);
+            wire [FLAGS_W-1:0] f_flags = flags_mem[fp];
+            always @(*)
+                if (f_past_valid && f_queued && f_flags[7] && !f_flags[8] && !f_flags[4])
+                    assert(f_profile_ok(queue_mem[fp][FLAGS_W +: PROFILE_W]));
+        end
+        for (fp = 0; fp < PROFILE_DEPTH; fp = fp + 1) begin : g_f_pq_slot
+            wire [PQ_INDEX_W-1:0] f_offset = fp[PQ_INDEX_W-1:0] - pq_read_q;
+            wire f_queued = ({1'b0, f_offset} < pq_count_q);
+            always @(*)
+                if (f_past_valid && f_queued)
+                    assert(f_profile_ok(pq_mem[fp][PROFILE_W-1:0]));
+        end
+    endgenerate
+    // a unit holds a validated command only while it is the one in flight,
+    // and rejects only the one in flight before it was validated: the units'
+    // contract (each unit's own handshake proof shows it of its slot: a
+    // command is pending, loaded or rejected only after it was taken, and
+    // rejected only before it pends; checked here bounded, with F_UNITS),
+    // assumed by the composed proofs, which read the units without their
+    // properties
+`ifdef F_UNITS
     always @(*)
-        if (f_past_valid && f_rest_q && hold)
-            a_rest_kept: assert(!go);
+        if (f_past_valid) begin
+            a_pending_in_flight: assert(!(arc_pending || line_pending) || in_flight_q);
+            a_reject_unvalidated: assert(!(arc_reject || line_reject) ||
+                                         (in_flight_q && !accepted_q));
+        end
+`else
+    always @(*)
+        if (f_past_valid) begin
+            f_pending_in_flight: assume(!(arc_pending || line_pending) || in_flight_q);
+            f_reject_unvalidated: assume(!(arc_reject || line_reject) ||
+                                         (in_flight_q && !accepted_q));
+        end
+`endif
+    always @(*)
+        if (f_past_valid) begin
+            if (profile_valid_q)
+                i_profile_in_force: assert(f_profile_ok(profile_q));
+            if (in_flight_q)
+                i_in_flight_profile: assert(profile_valid_q);
+            i_pq_valid: assert(pq_valid_q == (pq_count_q != {(PQ_INDEX_W+1){1'b0}}));
+            // the profile queue's count and indices; room for the profile of
+            // the command in flight until it enters
+            i_pq_count: assert(pq_count_q <= PQ_FULL && pq_read_q <= PQ_LAST_INDEX &&
+                               pq_write_q <= PQ_LAST_INDEX);
+            i_pq_write: assert({1'b0, pq_write_q} == f_pq_wrap);
+            if (in_flight_q && !accepted_q)
+                i_pq_room: assert(pq_count_q != PQ_FULL);
+            if (accepted_q)
+                i_accepted: assert(in_flight_q);
+        end
+    // once the profile stage holds at rest under a hold, no step is
+    // requested while the hold stays high (the bounded units task, and the
+    // composed proofs, which read the profile stage with its properties)
+    // (from the hold's second clock on: on its first the profile stage's
+    // target is the one registered before the hold, and the speed may still
+    // rise by a step at its edge)
+    reg f_rest_q, f_hold_q;
+    always @(posedge clk) begin
+        f_hold_q <= !rst && hold;
+        f_rest_q <= !rst && hold && ((stage_holding && f_hold_q) || f_rest_q);
+    end
+    always @(*)
+        if (f_past_valid && f_rest_q) begin
+            i_rest_speed: assert(speed == 38'd0);
+            if (hold)
+                a_rest_kept: assert(!go);
+        end
 `endif
 
     // ---- reachable ----

@@ -14,7 +14,9 @@
 //     cost (65536 for an axis move, 92682 for a diagonal arc move, the
 //     segment's line_cost for a line iteration, BLU x 2^16; the three
 //     compares from registers, the head's class selects), every axis it
-//     steps is ready, and the stage is not stopped at rest; on the segment's
+//     steps is ready, and the stage is neither stopped nor held at rest
+//     (at rest under hold nothing pops, not even a move the credit covers:
+//     holding = hold and v = 0, no step until the release); on the segment's
 //     last move the next profile is taken (take) if available, the
 //     distance s restarts at 0 and the credit's remainder is carried;
 //   * the credit grows by the gain: v, or 0 when it was at its cap (twice
@@ -255,10 +257,11 @@ module halfpoint_profile #(
         endcase
     end
     // everything else of pop and take, side by side with the compares
-    wire          pop_ok = cur_valid_q && head_valid && ready && !at_rest_stop;
+    wire          at_rest_hold = hold && v_zero;
+    wire          pop_ok = cur_valid_q && head_valid && ready && !at_rest_stop &&
+                           !at_rest_hold;
     wire          take_last = next_valid && head_last;
     wire          take_idle = next_valid && !cur_valid_q && !stop;
-    wire          can_pop = cur_valid_q && head_valid && covers;
     wire          pop_now = covers && pop_ok;
     // what the pop decides, as the last select (a pop means a segment, not
     // stopped at rest, and no take without one)
@@ -268,7 +271,7 @@ module halfpoint_profile #(
     assign pop     = covers && pop_ok && !abort_now;
     assign take    = ((covers && pop_ok && take_last) || take_idle) && !abort_now;
     assign stopped = at_rest_stop && !abort_now;
-    assign holding = hold && v_zero && !can_pop && !abort_now;
+    assign holding = at_rest_hold && !abort_now;
 
     // ------------------------------------------------------------------
     // Credit: + v unless it was at its cap a clock ago, - the popped cost;
@@ -753,7 +756,8 @@ module halfpoint_profile #(
     //            2^DIV + 1 clocks (so a hold reaches rest: at most
     //            ceil(v / accel) (2^DIV + 1) clocks); at rest under hold it
     //            stays at rest (from the hold's second clock: on its first the
-    //            target is the one registered before it);
+    //            target is the one registered before it), and at rest under
+    //            hold no move pops;
     //   stop     a stop at rest (stopped) ends the segment and clears the
     //            credit on its edge;
     //   abort    pop, take, stopped and holding are 0 during abort_now, and
@@ -774,12 +778,15 @@ module halfpoint_profile #(
         if (!f_past_valid)
             assume(rst);
 
-    // the next profile's rules (the core's validator)
+    // the next profile's rules (the core's validator), from the clock after
+    // the first reset on (during it nothing is read), named f_rule_*: the
+    // core's composed proof (formal/halfpoint_core.sby, compose_*) turns them
+    // into assertions, obligations of the core
     always @(*)
-        if (next_valid) begin
-            assume(next_accel != 34'd0);
-            assume(next_v_exit <= next_v_cruise);
-            assume(next_d_stop <= next_d_exit);
+        if (f_past_valid && next_valid) begin
+            f_rule_accel: assume(next_accel != 34'd0);
+            f_rule_exit: assume(next_v_exit <= next_v_cruise);
+            f_rule_stop: assume(next_d_stop <= next_d_exit);
         end
 
 `ifdef F_HEAD_OF_ITS_KIND
@@ -949,8 +956,12 @@ module halfpoint_profile #(
                 a_holding_stays: assert(v_q == 38'd0);
         end
     always @(*)
-        if (f_past_valid && hold)
+        if (f_past_valid && hold) begin
             a_hold_falls: assert(f_wait_q <= F_TICK);
+            // at rest under hold no move pops (not even one the credit covers)
+            if (v_q == 38'd0)
+                a_hold_rest_no_pop: assert(!pop);
+        end
 
     // ------------------------------------------------------------------
     // Stop at rest and abort

@@ -163,7 +163,11 @@ module halfpoint_regs #(
     endfunction
 
     wire [15:0] level_16 = {{(16-LEVEL_W){1'b0}}, core_level};
-    wire        holding = hold_q && (core_speed == 38'd0);
+    // HOLDING: held at rest, from the hold's second clock (on its first the
+    // profile stage's target is the one registered before, and the speed may
+    // still rise by a step); then no step comes until HOLD is cleared
+    reg         hold_before_q;
+    wire        holding = hold_q && hold_before_q && (core_speed == 38'd0);
 
     reg                 known, writable;
     reg  [31:0]         read_value;
@@ -309,6 +313,7 @@ module halfpoint_regs #(
             cmd_q <= {32*CMD_COUNT{1'b0}};
             snapshot_q <= {NA*W{1'b0}};
             busy_before_q <= 1'b0;
+            hold_before_q <= 1'b0;
             resp_valid <= 1'b0;
             resp_error <= 1'b0;
             resp_rdata <= 32'd0;
@@ -354,6 +359,7 @@ module halfpoint_regs #(
             end
             if (read && hit_pos_0) snapshot_q <= core_pos;
             busy_before_q <= core_busy;
+            hold_before_q <= hold_q;
             resp_valid <= req_valid;
             resp_error <= req_valid && bad_request;
             resp_rdata <= read ? read_value : 32'd0;

@@ -5,7 +5,8 @@ from the real RTL by a textual edit) fails the proof with a VCD trace, as
 do a line unit that takes a command while it holds one (one is lost), a
 profile stage whose speed rises by twice its acceleration, a core that
 takes a beat while its queue is full and an arc unit that gives an end off
-the circle the wrong reject code.
+the circle the wrong reject code; a profile stage that pops at rest under
+hold breaks the core's composed proof.
 The full set (all tasks, every mutant) is `make formal`."""
 
 from __future__ import annotations
@@ -183,3 +184,15 @@ def test_arc_wrong_reject_code_fails_with_trace(tmp_path):
     (r,) = formal.run_mutant(m, tmp_path / "mut")
     assert r.status == "FAIL" and r.ok and r.traces, r
     assert any(f.startswith("a_reject_code") for f in r.failed), r.failed
+
+
+def test_core_pop_held_at_rest_breaks_the_composed_proof(tmp_path):
+    """The profile stage popping a move the credit covers at rest under hold (its
+    behaviour before 2026-11-25): the core's composed proof (compose_na2, the profile
+    stage read with its properties) no longer closes, on the profile stage's
+    a_hold_rest_no_pop or the core's a_rest_kept."""
+    m = next(m for m in formal.MUTANTS if m.name == "core_pops_held_at_rest")
+    assert m.expect == "NOPROOF" and m.tasks == ("compose_na2",)
+    (r,) = formal.run_mutant(m, tmp_path / "mut")
+    assert r.status in ("FAIL", "UNKNOWN") and r.ok, r
+    assert any(f.startswith(("a_hold_rest_no_pop", "a_rest_kept")) for f in r.failed), r.failed

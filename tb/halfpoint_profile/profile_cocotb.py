@@ -728,9 +728,11 @@ class Checker:
         if model.cur is not None and inp.head_valid:
             cost = pf.move_cost(inp.head_class, model.cur)
             self.seen["exact_cover"] += int(model.credit >> pf.COST_SHIFT == cost)
-            # held at rest with the head move covered: not holding (a move is due)
+            # held at rest with the head move covered: it waits for the release
+            # (holding, no pop), though the credit has it due (owed_move_waits_for_
+            # release below has its axes ready too)
             self.seen["held_covered"] += int(bool(inp.hold) and model.v == 0
-                                             and not model.view(inp).holding)
+                                             and model.credit >> pf.COST_SHIFT >= cost)
         # a step that lands within 4 LSB of its target, not on it
         v, t, a = model.v, model.target, model.accel
         self.seen["near_up"] += int(t > v and 0 < abs(v + a - t) <= 4)
@@ -1062,6 +1064,78 @@ async def below_compare_terms(dut):
     bench.report("below compare terms")
     assert bench.stim.ends["done"] == runs, bench.stim.ends
     assert bench.checker.seen["ramp_step"] >= runs
+
+
+@cocotb.test()
+async def owed_move_waits_for_release(dut):
+    """A hold brings the speed to 0 while no move is queued and the credit already
+    covers one; the move that then arrives must not pop while held at rest, and pops
+    at the release (the composed core proof found it popping under hold); every
+    clock compared."""
+    bind(dut)
+    bench = Bench(dut, SEED + 500)
+    await bench.start()
+    model = bench.model
+    profile = ProfileParams(1 << 30, 0, 1 << 30, 0, 1 << 20, 1 << 20)
+
+    async def clock(head_valid: int, hold: int):
+        inp = ProfileInputs(head_valid=head_valid, head_class=CLASS_AXIS, ready=1,
+                            next_valid=int(model.cur is None), next_profile=profile,
+                            hold=hold, override=pf.OVERRIDE_ONE)
+        return await bench.step(inp, "owed move")
+
+    for _ in range(1 << 12):                # speed and credit grow, no move queued
+        await clock(0, 0)
+        if model.v and model.credit >> pf.COST_SHIFT >= COST_AXIS:
+            break
+    assert model.credit >> pf.COST_SHIFT >= COST_AXIS
+    for _ in range(1 << 16):                # held down to rest, still no move
+        await clock(0, 1)
+        if model.v == 0:
+            break
+    assert model.v == 0 and model.credit >> pf.COST_SHIFT >= COST_AXIS
+    for _ in range(20):                     # the owed move arrives: it waits
+        w = await clock(1, 1)
+        assert w.holding and not w.pop
+    w = await clock(1, 0)                   # released: it pops
+    assert w.pop
+    bench.report("owed move")
+
+
+@cocotb.test()
+async def no_pop_without_a_segment(dut):
+    """A segment ends on a diagonal move popped with the credit at its cap, so the
+    remainder it leaves covers an axis move; with no next profile there is no segment,
+    and a head move then presented must not pop (mutation #199 of 2026-11-25: the pop
+    without cur_valid_q survived every other test); every clock compared."""
+    bind(dut)
+    bench = Bench(dut, SEED + 600)
+    await bench.start()
+    model = bench.model
+    length = 3 * pf.COST_DIAG
+    profile = ProfileParams(1 << 30, 0, 1 << 30, 0, length, length)
+    cap = (pf.COST_DIAG << pf.COST_SHIFT) << 1
+
+    async def clock(**kw):
+        inp = ProfileInputs(override=pf.OVERRIDE_ONE, **kw)
+        return await bench.step(inp, "no segment")
+
+    await clock(next_valid=1, next_profile=profile)             # taken idle
+    popped = 0
+    for _ in range(1 << 16):
+        last = int(popped == 2)
+        # the last move waits (axes not ready) until the credit is at its cap
+        ready = int(not last or model.credit >= cap)
+        w = await clock(head_valid=1, head_class=CLASS_DIAG, head_last=last, ready=ready)
+        popped += int(w.pop)
+        if popped == 3:
+            break
+    assert popped == 3 and model.cur is None
+    assert model.credit >> pf.COST_SHIFT >= COST_AXIS, model.credit
+    for _ in range(8):                  # a move with no segment: nothing pops
+        w = await clock(head_valid=1, head_class=CLASS_AXIS, ready=1)
+        assert not w.pop
+    bench.report("no segment")
 
 
 @cocotb.test(skip=not LONG)

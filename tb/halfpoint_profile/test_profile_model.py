@@ -288,6 +288,41 @@ def test_hold_across_a_boundary_reaches_rest_stays_and_resumes():
     assert max(res.v[release:]) == vc << SPEED_SHIFT     # back to the plan
 
 
+def test_nothing_pops_at_rest_under_hold_even_when_owed():
+    """A hold brings the speed to 0 while the move queue is empty and the credit
+    already covers a move (it grew at speed with no head to spend it on): the move
+    that then arrives is owed, but it must not pop while the hold keeps the stage at
+    rest (holding); it pops at the release.  (Before, it popped at rest under hold:
+    the core's composed proof found it, formal/halfpoint_core.sby compose_na2.)"""
+    div = 2
+    stage = ProfileStage(div)
+    accel = 1 << 30
+    prof = ProfileParams((1 << 32) // 4, 0, accel, 0, 1 << 20, 1 << 20)
+
+    def clock(head_valid, hold):
+        inp = ProfileInputs(head_valid=head_valid, head_class=CLASS_AXIS, ready=1,
+                            next_valid=int(stage.cur is None), next_profile=prof,
+                            hold=hold, stop=0, override=OVERRIDE_ONE)
+        return stage.clock(inp)
+
+    for _ in range(200):                    # speed and credit grow, no head move
+        clock(0, 0)
+    assert stage.v > 0 and stage.credit >> COST_SHIFT >= COST_AXIS
+    clocks = 0
+    while stage.v:                          # hold: down to rest, still no head
+        w = clock(0, 1)
+        clocks += 1
+        assert clocks < 10_000
+    owed = stage.credit
+    assert owed >> COST_SHIFT >= COST_AXIS  # the credit covers the next move
+    for _ in range(50):                     # the move arrives: held, it waits
+        w = clock(1, 1)
+        assert w.holding and not w.pop
+        assert stage.v == 0 and stage.credit == owed
+    w = clock(1, 0)                         # released: the owed move pops now
+    assert w.pop and not w.holding
+
+
 def test_override_changes_ramp_instead_of_jumping():
     div = 3
     accel = 1 << 23

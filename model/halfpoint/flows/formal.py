@@ -266,6 +266,21 @@ MUTANTS = [
            "wire [41:0]   credit_rest = 1'b0 ? 42'd0",
            ("bmc_div2",),
            "a stop at rest keeps the credit (the next segment would start with it)"),
+    Mutant("profile_pops_held_at_rest", "halfpoint_profile", "rtl/halfpoint_profile.v",
+           "ready && !at_rest_stop &&\n                           !at_rest_hold;",
+           "ready && !at_rest_stop &&\n                           1'b1;",
+           ("prove_div2",),
+           "a move the credit covers pops at rest under hold (the behaviour before "
+           "2026-11-25): prove_div2's base case fails on a_hold_rest_no_pop with a "
+           "line iteration of cost 0, which the stage alone allows (bmc_div2 assumes "
+           "line costs of at least one BLU)"),
+    Mutant("core_pops_held_at_rest", "halfpoint_core", "rtl/halfpoint_profile.v",
+           "ready && !at_rest_stop &&\n                           !at_rest_hold;",
+           "ready && !at_rest_stop &&\n                           1'b1;",
+           ("compose_na2",),
+           "the same in the core: the composed proof (the profile stage read with its "
+           "properties) no longer closes on a_rest_kept / a_hold_rest_no_pop",
+           "NOPROOF"),
     Mutant("core_push_when_full", "halfpoint_core", "rtl/halfpoint_core.v",
            "assign s_axis_tready = (count_q != QUEUE_FULL) && !abort_q && !stage_stopped;",
            "assign s_axis_tready = !abort_q && !stage_stopped;",

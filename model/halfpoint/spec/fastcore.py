@@ -254,8 +254,9 @@ def _stage_clocks(m: CoreModel, running, more: bool, hold: int, ovq: int, limit:
         if st.last_dir != direction or st.since >= st.tick:
             return 0
         k = min(k, st.tick - st.since)
-    # the head move: pops on the first clock with the credit and every axis ready
-    if m.moves:
+    # the head move: pops on the first clock with the credit and every axis ready,
+    # never at rest under hold (v stays 0 through the window then: no step in it)
+    if m.moves and not (hold and st.v == 0):
         head = m.moves[0]
         cost = pf.move_cost(head.cost_class, cur)
         jc = _first_reach(c0, v, NEVER, cost << sh)
@@ -319,7 +320,7 @@ def _try_pop(m: CoreModel, hold: int, ovq: int) -> bool:
     sh = pf.COST_SHIFT
     cost = pf.move_cost(head.cost_class, cur)
     credit, v = st.credit, st.v
-    if (credit >> sh) < cost:
+    if (credit >> sh) < cost or (hold and v == 0):
         return False
     for s, sg, c in zip(head.steps, m.stepgens, m.cfg):
         if s and not sg._ready(c, int(s > 0)):

@@ -140,8 +140,10 @@ the planned distance) early and creeps the rest: 2.95 times the full-speed time
 for the 1500-BLU segment of the tests, 1.79 times with the distance-driven one.
 
 Feed hold, stop, override (issue 13, item 5): hold decelerates at ``accel`` per tick
-along the path, across segment boundaries, to rest, and stays (``holding``: hold, v
-= 0, no move can pop); releasing it accelerates back to the target.  Stop does the
+along the path, across segment boundaries, to rest, and stays (``holding``: hold and
+v = 0; then no move pops, not even one the credit already covers: such a move, owed
+by the deceleration, pops at the release); releasing it accelerates back to the
+target.  Stop does the
 same and, at rest, drops the current segment and credit (``stopped``; the core
 flushes its queues while stop is high at rest).  The override acts on the target,
 so its changes ramp at ``accel`` like any change of target.  Moves are only
@@ -305,7 +307,7 @@ class ProfileView:
     ramp_left: int = 0      # the staircase's distance to its next step after this edge
     credit: int = 0         # credit after this edge (while a segment is current)
     gain: int = 0           # the earned distance grows by this at this edge
-    holding: bool = False   # hold, at rest, no move can pop
+    holding: bool = False   # hold, at rest: no move pops
     stopped: bool = False   # stop, at rest: the rest is dropped at this edge
 
 
@@ -426,10 +428,13 @@ class ProfileStage:
             return w
         w.cost = move_cost(i.head_class, cur) if i.head_valid else 0
         at_rest_stop = bool(i.stop and self.v == 0)
+        # at rest under hold nothing pops, not even a move the credit already
+        # covers (it pops on release): holding means no step until then
+        at_rest_hold = bool(i.hold and self.v == 0)
         can_pop = bool(i.head_valid and (self.credit >> COST_SHIFT) >= w.cost)
-        w.pop = can_pop and bool(i.ready) and not at_rest_stop
+        w.pop = can_pop and bool(i.ready) and not at_rest_stop and not at_rest_hold
         w.stopped = at_rest_stop
-        w.holding = bool(i.hold and self.v == 0 and not can_pop)
+        w.holding = at_rest_hold
         w.take = bool(w.pop and i.head_last and i.next_valid)
         # credit: gains the speed of this clock unless it was at its cap a clock ago
         spent = (w.cost << COST_SHIFT) if w.pop else 0

@@ -117,7 +117,8 @@ REGISTERS = (
              (_bits("BUSY", 0, "commands queued or running, or a STEP pulse going"),
               _bits("READY", 1, "a push would be taken now (queue not full, no stop or "
                     "abort)"),
-              _bits("HOLDING", 2, "CONTROL.HOLD is set and the path speed is zero"),
+              _bits("HOLDING", 2, "CONTROL.HOLD is set, was set a clock before, and the "
+                    "path speed is zero: no step until HOLD is cleared"),
               _bits("UNDERRUN", 3, "sticky: a CONT segment ended with no next one"),
               _bits("DRY", 4, "sticky: the profile stage decelerated for a dry queue"),
               _bits("ERR_CODE", 8, "code of the last rejected command (0: none)",

@@ -96,6 +96,7 @@ class RegsModel:
         self.snapshot = [0] * self.axes
         self.pin_inv = [(0, 0)] * self.axes     # the polarity the pins were made with
         self.busy_before = 0
+        self.hold_before = 0        # CONTROL.HOLD as it was in the clock before
         self.resp = (0, 0, 0)
         self._apply_config()
 
@@ -153,7 +154,10 @@ class RegsModel:
             return rm.reset_value(reg, self.params)
         mask32 = (1 << 32) - 1
         if name == "STATUS":
-            holding = int(self._field("CONTROL", "HOLD") == 1 and co.speed == 0)
+            # from the hold's second clock: on its first the speed may still
+            # rise by one step (the profile stage's target was registered before)
+            holding = int(self._field("CONTROL", "HOLD") == 1 and self.hold_before == 1
+                          and co.speed == 0)
             fields = {"BUSY": co.busy, "READY": co.tready, "HOLDING": holding,
                       "UNDERRUN": co.underrun, "DRY": co.dry, "ERR_CODE": co.err_code}
             return sum(fields[f.name] << f.lsb for f in reg.fields)
@@ -181,6 +185,7 @@ class RegsModel:
             self.reset()
             return
         co = self.core.outputs()
+        hold_now = self._field("CONTROL", "HOLD")
         hit = self.decode(req) if req.valid else None
         events = 0
         if co.level < self._field("IRQ_THRESHOLD", "LEVEL"):
@@ -224,5 +229,6 @@ class RegsModel:
         status = self._get("IRQ_STATUS")
         self.values[("IRQ_STATUS", 0)] = (status & ~clear) | events
         self.busy_before = co.busy
+        self.hold_before = hold_now
         self.pin_inv = [(c.step_inv, c.dir_inv) for c in self.core.cfg]
         self._apply_config()
