@@ -1094,8 +1094,19 @@ module halfpoint_core #(
     always @(*)
         if (f_past_valid)
             a_decode: assert(f_flags_ok(in_flags));
+`ifdef F_REST
+    // a profile that obeys the profile stage's rules (F_REST below)
+    function f_profile_ok;
+        input [PROFILE_W-1:0] profile;
+        begin
+            f_profile_ok = (profile[97:64] != 34'd0) && (profile[63:32] <= profile[31:0]) &&
+                           (profile[116 + DW +: DW] <= profile[116 +: DW]);
+        end
+    endfunction
+`endif
     // the flags register is the head's flags, and each queued entry's flags
-    // copy is its entry's flags, which are consistent
+    // copy is its entry's flags, which are consistent (and, F_REST, a good
+    // PROFILE entry obeys the profile stage's rules)
     genvar fi;
     generate
         for (fi = 0; fi < DEPTH; fi = fi + 1) begin : g_f_slot
@@ -1105,6 +1116,12 @@ module halfpoint_core #(
                 if (f_past_valid && f_queued)
                     assert(flags_mem[fi] == queue_mem[fi][FLAGS_W-1:0] &&
                            f_flags_ok(flags_mem[fi]));
+`ifdef F_REST
+            always @(*)
+                if (f_past_valid && f_queued && flags_mem[fi][7] && !flags_mem[fi][8] &&
+                    !flags_mem[fi][4])
+                    assert(f_profile_ok(queue_mem[fi][FLAGS_W +: PROFILE_W]));
+`endif
         end
     endgenerate
     always @(*)
@@ -1233,28 +1250,13 @@ module halfpoint_core #(
     // ---- profiles: the profile stage's input rules, kept from the input ----
     // (the composed proofs turn the profile stage's assumptions about its
     // next profile, f_rule_*, into assertions; these invariants carry the
-    // input's check, E_PROFILE_FIELD, through the queue, the profile in
-    // force and the profile queue)
+    // input's check, E_PROFILE_FIELD, through the queue (g_f_slot above),
+    // the profile in force and the profile queue)
     wire [PQ_INDEX_W+1:0] f_pq_sum = {1'b0, pq_read_q} + {1'b0, pq_count_q};
     wire [PQ_INDEX_W:0]   f_pq_wrap = (f_pq_sum >= PROFILE_DEPTH)
                                       ? f_pq_sum - PROFILE_DEPTH : f_pq_sum;
-    function f_profile_ok;
-        input [PROFILE_W-1:0] profile;
-        begin
-            f_profile_ok = (profile[97:64] != 34'd0) && (profile[63:32] <= profile[31:0]) &&
-                           (profile[116 + DW +: DW] <= profile[116 +: DW]);
-        end
-    endfunction
     genvar fp;
     generate
-        for (fp = 0; fp < DEPTH; fp = fp + 1) begin : g_f_profile_slot
-            wire [INDEX_W-1:0] f_offset = fp[INDEX_W-1:0] - read_index_q;
-            wire f_queued = ({1'b0, f_offset} < count_q);
-            wire [FLAGS_W-1:0] f_flags = flags_mem[fp];
-            always @(*)
-                if (f_past_valid && f_queued && f_flags[7] && !f_flags[8] && !f_flags[4])
-                    assert(f_profile_ok(queue_mem[fp][FLAGS_W +: PROFILE_W]));
-        end
         for (fp = 0; fp < PROFILE_DEPTH; fp = fp + 1) begin : g_f_pq_slot
             wire [PQ_INDEX_W-1:0] f_offset = fp[PQ_INDEX_W-1:0] - pq_read_q;
             wire f_queued = ({1'b0, f_offset} < pq_count_q);
@@ -1271,20 +1273,18 @@ module halfpoint_core #(
     // assumed by the composed proofs, which read the units without their
     // properties
 `ifdef F_UNITS
-    always @(*)
-        if (f_past_valid) begin
-            a_pending_in_flight: assert(!(arc_pending || line_pending) || in_flight_q);
-            a_reject_unvalidated: assert(!(arc_reject || line_reject) ||
-                                         (in_flight_q && !accepted_q));
-        end
+`define F_UNITS_CONTRACT assert
 `else
+`define F_UNITS_CONTRACT assume
+`endif
     always @(*)
         if (f_past_valid) begin
-            f_pending_in_flight: assume(!(arc_pending || line_pending) || in_flight_q);
-            f_reject_unvalidated: assume(!(arc_reject || line_reject) ||
-                                         (in_flight_q && !accepted_q));
+            units_pending_in_flight: `F_UNITS_CONTRACT(!(arc_pending || line_pending) ||
+                                                       in_flight_q);
+            units_reject_unvalidated: `F_UNITS_CONTRACT(!(arc_reject || line_reject) ||
+                                                        (in_flight_q && !accepted_q));
         end
-`endif
+`undef F_UNITS_CONTRACT
     always @(*)
         if (f_past_valid) begin
             if (profile_valid_q)
