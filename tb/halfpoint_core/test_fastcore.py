@@ -16,7 +16,8 @@ import pytest
 
 from halfpoint.spec import encoding as enc
 from halfpoint.spec import fastcore as fc
-from halfpoint.spec.core import CoreModel, run_program
+from halfpoint.spec import profile as pf
+from halfpoint.spec.core import CoreInputs, CoreModel, run_program
 from halfpoint.spec.program import profiled, random_arc, random_helix, random_line
 from halfpoint.spec.stepgen import StepCfg, StepGenModel, StepInputs
 
@@ -189,3 +190,52 @@ def test_stepgen_closed_forms():
             ref.clock(c, StepInputs())
         fc._sg_advance(fast, c, k)
         assert vars(fast) == vars(ref)
+
+
+def owed_hold_case(seed: int = 1):
+    """A fast program with slow STEP/DIR timing and many short holds (seed 1: the core
+    reaches rest under hold with the head move's axes ready and the credit covering it
+    at cycle 427, DIV 2, where the profile stage popped it before 2026-11-25)."""
+    rng = random.Random(seed)
+    axes, width, div = 3, 32, rng.choice((2, 3, 5))
+    cfg = random_cfg(rng, axes, slow=rng.random() < 0.7)
+    cmds = random_program(rng, axes, width, div, rng.randint(3, 8), slow=False)
+    holds, t = [], 0
+    for _ in range(40):
+        t += rng.randint(5, 400)
+        holds.append((t, t + rng.randint(5, 600)))
+        t = holds[-1][1]
+    return cmds, (axes, width, 4, 16, div, 4, 2, cfg), holds
+
+
+def test_no_move_at_rest_under_hold_even_when_owed():
+    """In the core: from a hold's second clock at rest (speed 0) no move pops while the
+    hold stays high, even on clocks where the head move is ready and the credit covers
+    it (owed by the deceleration; the case occurs in this program); the event-skipping
+    model agrees with the clock-by-clock one on it."""
+    cmds, params, holds = owed_hold_case()
+    axes, width, depth, tw, div, move_depth, profile_depth, cfg = params
+    m = CoreModel(axes, width, depth, tw, div, move_depth, profile_depth,
+                  [StepCfg(**vars(c)) for c in cfg])
+    m.clock(CoreInputs(rst=1))
+    idx = cyc = idle = owed = held = 0
+    hold_before = 0
+    while idx < len(cmds) or idle < 4:
+        assert cyc < 400_000
+        hold = int(any(a <= cyc < b for a, b in holds))
+        o = m.outputs()
+        inp = CoreInputs(hold=hold)
+        if idx < len(cmds):
+            inp = CoreInputs(tvalid=1, tdata=cmds[idx], hold=hold)
+            idx += o.tready
+        idle = 0 if (o.busy or idx < len(cmds)) else idle + 1
+        st, si = m.stage, m.stage_inputs(inp)
+        at_rest = bool(hold and hold_before and st.v == 0 and st.cur is not None)
+        if at_rest and si.head_valid and si.ready:
+            held += 1
+            owed += int((st.credit >> pf.COST_SHIFT) >= pf.move_cost(si.head_class, st.cur))
+        w = m.clock(inp)
+        assert not (at_rest and w is not None and w.pop), f"a move at rest under hold, {cyc}"
+        hold_before, cyc = hold, cyc + 1
+    assert owed >= 1 and held >= owed, (owed, held)
+    check_equal(cmds, params, holds)
