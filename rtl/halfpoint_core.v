@@ -1258,8 +1258,13 @@ module halfpoint_core #(
     genvar fp;
     generate
         for (fp = 0; fp < PROFILE_DEPTH; fp = fp + 1) begin : g_f_pq_slot
-            wire [PQ_INDEX_W-1:0] f_offset = fp[PQ_INDEX_W-1:0] - pq_read_q;
-            wire f_queued = ({1'b0, f_offset} < pq_count_q);
+            // the slot's place behind the read index, modulo PROFILE_DEPTH (which
+            // need not be a power of two)
+            wire [PQ_INDEX_W:0] f_slot = fp;
+            wire [PQ_INDEX_W:0] f_offset = (f_slot >= {1'b0, pq_read_q})
+                                           ? f_slot - {1'b0, pq_read_q}
+                                           : f_slot + PROFILE_DEPTH - {1'b0, pq_read_q};
+            wire f_queued = (f_offset < pq_count_q);
             always @(*)
                 if (f_past_valid && f_queued)
                     assert(f_profile_ok(pq_mem[fp][PROFILE_W-1:0]));
