@@ -143,9 +143,8 @@ Feed hold, stop, override (issue 13, item 5): hold decelerates at ``accel`` per 
 along the path, across segment boundaries, to rest, and stays (``holding``: hold and
 v = 0; then no move pops, not even one the credit already covers: such a move, owed
 by the deceleration, pops at the release); releasing it accelerates back to the
-target.  Stop does the
-same and, at rest, drops the current segment and credit (``stopped``; the core
-flushes its queues while stop is high at rest).  The override acts on the target,
+target.  Stop does the same and, at rest, drops the current segment and credit
+(``stopped``; the core flushes its queues while stop is high at rest).  The override acts on the target,
 so its changes ramp at ``accel`` like any change of target.  Moves are only
 delayed, never reordered, merged or dropped (except by stop).
 
