@@ -729,8 +729,8 @@ class Checker:
             cost = pf.move_cost(inp.head_class, model.cur)
             self.seen["exact_cover"] += int(model.credit >> pf.COST_SHIFT == cost)
             # held at rest with the head move covered: it waits for the release
-            # (holding, no pop), though the credit has it due (owed_move_waits_for_
-            # release below has its axes ready too)
+            # (holding, no pop), though the credit has it due (the test
+            # owed_move_waits_for_release below has its axes ready too)
             self.seen["held_covered"] += int(bool(inp.hold) and model.v == 0
                                              and model.credit >> pf.COST_SHIFT >= cost)
         # a step that lands within 4 LSB of its target, not on it
