@@ -119,3 +119,20 @@ def test_snapshot_is_taken_by_pos_0():
     assert access(m, "POS", 2)[1] == 7
     assert access(m, "POS", 0)[1] == 1
     assert access(m, "POS", 2)[1] == 3
+
+
+def test_holding_from_the_holds_second_clock():
+    """STATUS.HOLDING reads 1 only from the hold's second clock: on its first the
+    profile stage's target is still the one registered before the hold, and the speed
+    may rise by a step (idle here, the speed is 0 throughout); then HOLDING = 1 means
+    no step until HOLD is cleared."""
+    m = model()
+    holding = 1 << next(f.lsb for f in rm.BY_NAME["STATUS"].fields if f.name == "HOLDING")
+    status = rm.BY_NAME["STATUS"].address(0)
+    m.clock(Request(1, 1, rm.BY_NAME["CONTROL"].address(0), 1 | 128 << 8, 0xF))  # HOLD set
+    m.clock(Request(1, 0, status, 0, 0xF))          # read on the hold's first clock
+    first = m.outputs().resp_rdata
+    m.clock(Request(1, 0, status, 0, 0xF))          # and on its second
+    second = m.outputs().resp_rdata
+    assert m.core.outputs().speed == 0
+    assert not first & holding and second & holding
