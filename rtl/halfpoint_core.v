@@ -1004,11 +1004,11 @@ module halfpoint_core #(
     // ========================================================================
     // The .sby reads this file and the step generators' with FORMAL (the
     // generators' own proven properties then hold here too, and their
-    // invariants help the induction); the arc, line, helix and outputs
-    // modules are read without it: their inputs come from this module, and
-    // their properties assume things of their inputs that are proven
-    // separately.  The profile stage is read with it in the composed proofs
-    // (compose_*), its assumptions about its inputs asserted.  Every input
+    // invariants help the induction); the arc, helix and outputs modules
+    // are read without it: their inputs come from this module, and their
+    // properties assume things of their inputs that are proven separately.
+    // The line unit and the profile stage are read with it in the composed
+    // proofs (compose_*), their assumptions about their inputs asserted.  Every input
     // is free on every clock (rst high on the first) except the pin
     // polarities, which are setup values: constant.
     // Asserted (a_* the contract, i_* invariants for the induction):
@@ -1033,9 +1033,11 @@ module halfpoint_core #(
     // unit loads or rejects only the command handed to it (none lost,
     // duplicated or run by the wrong unit between the dispatcher and the
     // units).  F_REST (the bounded check, and the composed proofs, which
-    // read the profile stage with its properties and turn its assumptions
-    // about the next profile into assertions): every profile in the queue,
-    // in force and in the profile queue obeys the profile stage's rules, and
+    // read the line unit and the profile stage with their properties and
+    // turn their assumptions about their inputs into assertions): every
+    // profile in the queue, in force and in the profile queue obeys the
+    // profile stage's rules; the line unit holds, loads or rejects only the
+    // command in flight handed to it (the arc unit's same contract assumed);
     // once the profile stage holds at rest under a hold (from the hold's
     // second clock), no step is requested while the hold stays high.
     // F_LINE_COST_BLU (bounded checks only) assumes PROFILE line costs of at
@@ -1211,13 +1213,14 @@ module halfpoint_core #(
     always @(*)
         if (f_past_valid)
             a_one_in_flight: assert(!(arc_take || line_take) || !in_flight_q);
-`ifdef F_UNITS
-    // the unit the command in flight was handed to (1: the arc unit), and the
-    // clocks it has been held without being validated
+    // the unit the command in flight was handed to (1: the arc unit)
     reg        f_to_arc_q;
+    always @(posedge clk)
+        if (arc_take || line_take) f_to_arc_q <= arc_take;
+`ifdef F_UNITS
+    // the clocks the command in flight has been held without being validated
     reg  [5:0] f_wait_q;
     always @(posedge clk) begin
-        if (arc_take || line_take) f_to_arc_q <= arc_take;
         if (rst || flush || !in_flight_q || arc_pending || line_pending) begin
             f_wait_q <= 6'd0;
         end else if (f_wait_q != 6'd63) begin
@@ -1270,26 +1273,35 @@ module halfpoint_core #(
                     assert(f_profile_ok(pq_mem[fp][PROFILE_W-1:0]));
         end
     endgenerate
-    // a unit holds a validated command only while it is the one in flight,
-    // and rejects only the one in flight before it was validated: the units'
-    // contract (each unit's own handshake proof shows it of its slot: a
+    // a unit holds a validated command only while it is the one handed to it
+    // and in flight, and rejects only that one before it was validated.  The
+    // line unit's part is proven here (the composed proofs read it with its
+    // properties: its slot holds a command only while it is not ready, and
+    // i_line_in_flight ties that to the command in flight); the arc unit's
+    // part is its contract (its own handshake proof shows it of its slot: a
     // command is pending, loaded or rejected only after it was taken, and
-    // rejected only before it pends; checked here bounded, with F_UNITS),
-    // assumed by the composed proofs, which read the units without their
-    // properties
+    // rejected only before it pends), checked here bounded with F_UNITS and
+    // assumed by the composed proofs, which read the arc unit without its
+    // properties.
 `ifdef F_UNITS
-`define F_UNITS_CONTRACT assert
+`define F_ARC_CONTRACT assert
 `else
-`define F_UNITS_CONTRACT assume
+`define F_ARC_CONTRACT assume
 `endif
     always @(*)
         if (f_past_valid) begin
-            units_pending_in_flight: `F_UNITS_CONTRACT(!(arc_pending || line_pending) ||
-                                                       in_flight_q);
-            units_reject_unvalidated: `F_UNITS_CONTRACT(!(arc_reject || line_reject) ||
-                                                        (in_flight_q && !accepted_q));
+            arc_handed: `F_ARC_CONTRACT(!(arc_pending || arc_loading || arc_reject) ||
+                                        (in_flight_q && f_to_arc_q));
+            arc_reject_unvalidated: `F_ARC_CONTRACT(!arc_reject || !accepted_q);
+            // the line unit is busy with a command only while it is the one in
+            // flight, handed to it
+            if (!flush)
+                i_line_in_flight: assert(line_s_ready || (in_flight_q && !f_to_arc_q));
+            a_line_handed_kept: assert(!(line_pending || line_loading || line_reject) ||
+                                       (in_flight_q && !f_to_arc_q));
+            a_line_reject_unvalidated: assert(!line_reject || !accepted_q);
         end
-`undef F_UNITS_CONTRACT
+`undef F_ARC_CONTRACT
     always @(*)
         if (f_past_valid) begin
             if (profile_valid_q)
@@ -1305,7 +1317,7 @@ module halfpoint_core #(
             if (in_flight_q && !accepted_q)
                 i_pq_room: assert(pq_count_q != PQ_FULL);
             if (accepted_q)
-                i_accepted: assert(in_flight_q);
+                i_accepted: assert(in_flight_q && (arc_pending || line_pending));
         end
     // once the profile stage holds at rest under a hold, no step is
     // requested while the hold stays high (the bounded units task, and the

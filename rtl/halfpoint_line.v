@@ -305,10 +305,12 @@ module halfpoint_line #(
             assume(rst);
 
     // valid/ready: a command offered and not taken stays offered, unchanged
+    // (named f_rule_*: the core's composed proofs, formal/halfpoint_core.sby
+    // compose_*, turn them into assertions, obligations of the core)
     always @(posedge clk)
         if (f_past_valid && !$past(rst) && $past(s_valid && !s_ready)) begin
-            assume(s_valid);
-            assume(s_delta == $past(s_delta));
+            f_rule_offer: assume(s_valid);
+            f_rule_offer_data: assume(s_delta == $past(s_delta));
         end
 
     // the command as taken: |d_i| (W bits hold |-2^(W-1)|) and signs
