@@ -1008,9 +1008,9 @@ module halfpoint_core #(
     // are read without it: their inputs come from this module, and their
     // properties assume things of their inputs that are proven separately.
     // The line unit and the profile stage are read with it in the composed
-    // proofs (compose_*), their assumptions about their inputs asserted.  Every input
-    // is free on every clock (rst high on the first) except the pin
-    // polarities, which are setup values: constant.
+    // proofs (compose_*), their assumptions about their inputs asserted.
+    // Every input is free on every clock (rst high on the first) except the
+    // pin polarities, which are setup values: constant.
     // Asserted (a_* the contract, i_* invariants for the induction):
     //   queue    a beat is pushed only while the queue has room; the
     //            dispatcher pops only a present command, each pop for exactly
@@ -1242,10 +1242,9 @@ module halfpoint_core #(
                 // validated within the unit's latency (W + 5 clocks, NA + 2)
                 a_validated_in_time: assert(f_wait_q <= W + 5);
             end
-            // a unit loads or rejects only the command in flight, once
-            a_load_handed: assert(!(arc_loading || arc_reject) || (in_flight_q && f_to_arc_q));
-            a_line_handed: assert(!(line_loading || line_reject) ||
-                                  (in_flight_q && !f_to_arc_q));
+            // that a unit pends, loads or rejects only the command in flight
+            // handed to it is F_REST's arc_handed and a_line_handed (the
+            // F_UNITS task defines F_REST too)
         end
     end
 `endif
@@ -1297,8 +1296,8 @@ module halfpoint_core #(
             // flight, handed to it
             if (!flush)
                 i_line_in_flight: assert(line_s_ready || (in_flight_q && !f_to_arc_q));
-            a_line_handed_kept: assert(!(line_pending || line_loading || line_reject) ||
-                                       (in_flight_q && !f_to_arc_q));
+            a_line_handed: assert(!(line_pending || line_loading || line_reject) ||
+                                  (in_flight_q && !f_to_arc_q));
             a_line_reject_unvalidated: assert(!line_reject || !accepted_q);
         end
 `undef F_ARC_CONTRACT
@@ -1319,12 +1318,10 @@ module halfpoint_core #(
             if (accepted_q)
                 i_accepted: assert(in_flight_q && (arc_pending || line_pending));
         end
-    // once the profile stage holds at rest under a hold, no step is
-    // requested while the hold stays high (the bounded units task, and the
-    // composed proofs, which read the profile stage with its properties)
-    // (from the hold's second clock on: on its first the profile stage's
-    // target is the one registered before the hold, and the speed may still
-    // rise by a step at its edge)
+    // once the profile stage holds at rest under a hold, from the hold's
+    // second clock on, no step is requested while the hold stays high (on
+    // the hold's first clock the profile stage's target is the one registered
+    // before it, and the speed may still rise by a step at its edge)
     reg f_rest_q, f_hold_q;
     always @(posedge clk) begin
         f_hold_q <= !rst && hold;
