@@ -844,12 +844,14 @@ module halfpoint_arc #(
             assume(rst);
 
     // valid/ready: a command offered and not taken stays offered, unchanged
+    // (named f_rule_*: the core's composed proofs, formal/halfpoint_core.sby
+    // compose_*, turn them into assertions, obligations of the core)
     always @(posedge clk)
         if (f_past_valid && !$past(rst) && $past(s_valid && !s_ready)) begin
-            assume(s_valid);
-            assume(s_cw == $past(s_cw));
-            assume(s_xs == $past(s_xs) && s_ys == $past(s_ys));
-            assume(s_xe == $past(s_xe) && s_ye == $past(s_ye));
+            f_rule_offer: assume(s_valid);
+            f_rule_offer_cw: assume(s_cw == $past(s_cw));
+            f_rule_offer_start: assume(s_xs == $past(s_xs) && s_ys == $past(s_ys));
+            f_rule_offer_end: assume(s_xe == $past(s_xe) && s_ye == $past(s_ye));
         end
 
     function [F_PW-1:0] f_wide;                 // zero-extended magnitude

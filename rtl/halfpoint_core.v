@@ -1033,13 +1033,14 @@ module halfpoint_core #(
     // unit loads or rejects only the command handed to it (none lost,
     // duplicated or run by the wrong unit between the dispatcher and the
     // units).  F_REST (the bounded check, and the composed proofs, which
-    // read the line unit and the profile stage with their properties and
-    // turn their assumptions about their inputs into assertions): every
-    // profile in the queue, in force and in the profile queue obeys the
-    // profile stage's rules; the line unit holds, loads or rejects only the
-    // command in flight handed to it (the arc unit's same contract assumed);
-    // once the profile stage holds at rest under a hold (from the hold's
-    // second clock), no step is requested while the hold stays high.
+    // read the units and the profile stage with their properties and turn
+    // their assumptions about their inputs into assertions): every profile in
+    // the queue, in force and in the profile queue obeys the profile stage's
+    // rules; each unit holds, loads or rejects only the command in flight
+    // handed to it (the arc unit's part assumed unless F_ARC_COMPOSED, the
+    // composed proofs, or F_UNITS); once the profile stage holds at rest under
+    // a hold (from the hold's second clock), no step is requested while the
+    // hold stays high.
     // F_LINE_COST_BLU (bounded checks only) assumes PROFILE line costs of at
     // least one BLU.
     reg f_past_valid;
@@ -1274,15 +1275,17 @@ module halfpoint_core #(
     endgenerate
     // a unit holds a validated command only while it is the one handed to it
     // and in flight, and rejects only that one before it was validated.  The
-    // line unit's part is proven here (the composed proofs read it with its
-    // properties: its slot holds a command only while it is not ready, and
-    // i_line_in_flight ties that to the command in flight); the arc unit's
-    // part is its contract (its own handshake proof shows it of its slot: a
-    // command is pending, loaded or rejected only after it was taken, and
-    // rejected only before it pends), checked here bounded with F_UNITS and
-    // assumed by the composed proofs, which read the arc unit without its
-    // properties.
+    // composed proofs (F_ARC_COMPOSED) read both units with their properties
+    // and prove it: a unit's slot holds a command only while the unit is not
+    // ready, and i_line_in_flight / i_arc_in_flight tie that to the command
+    // in flight (the arc unit's protocol properties, F_PROTOCOL_ONLY, are
+    // read: handshake, validation, frames; its run stage's invariants are
+    // its own tasks').  prove_na2 and prove_na3, which read the arc unit
+    // without its properties, assume its part (its own handshake proof shows
+    // it of its slot); bmc_na2 (F_UNITS) checks it bounded.
 `ifdef F_UNITS
+`define F_ARC_CONTRACT assert
+`elsif F_ARC_COMPOSED
 `define F_ARC_CONTRACT assert
 `else
 `define F_ARC_CONTRACT assume
@@ -1292,6 +1295,12 @@ module halfpoint_core #(
             arc_handed: `F_ARC_CONTRACT(!(arc_pending || arc_loading || arc_reject) ||
                                         (in_flight_q && f_to_arc_q));
             arc_reject_unvalidated: `F_ARC_CONTRACT(!arc_reject || !accepted_q);
+`ifdef F_ARC_COMPOSED
+            // the arc unit is busy with a command only while it is the one in
+            // flight, handed to it
+            if (!flush)
+                i_arc_in_flight: assert(arc_s_ready || (in_flight_q && f_to_arc_q));
+`endif
             // the line unit is busy with a command only while it is the one in
             // flight, handed to it
             if (!flush)

@@ -196,3 +196,17 @@ def test_core_pop_held_at_rest_breaks_the_composed_proof(tmp_path):
     (r,) = formal.run_mutant(m, tmp_path / "mut")
     assert r.status in ("FAIL", "UNKNOWN") and r.ok, r
     assert any(f.startswith(("a_hold_rest_no_pop", "a_rest_kept")) for f in r.failed), r.failed
+
+
+def test_core_arc_not_flushed_breaks_the_composed_proof(tmp_path):
+    """A core that does not flush the arc unit (its abort_now tied low) leaves the
+    arc's command to run after the queue was dropped.  With the arc unit's contract
+    assumed, compose_na2 passed on it; read with its properties (since 2026-11-25)
+    the arc unit's contract is an obligation, and the proof no longer closes, on
+    the invariant that ties the arc unit's slot to the command in flight."""
+    m = next(m for m in formal.MUTANTS if m.name == "core_arc_not_flushed")
+    assert m.expect == "NOPROOF" and m.tasks == ("compose_na2",)
+    (r,) = formal.run_mutant(m, tmp_path / "mut")
+    assert r.status in ("FAIL", "UNKNOWN") and r.ok, r
+    assert any(f.startswith(("i_arc_in_flight", "arc_handed", "arc_reject_unvalidated"))
+               for f in r.failed), r.failed

@@ -281,6 +281,15 @@ MUTANTS = [
            "the same in the core: the composed proof (the profile stage read with its "
            "properties) no longer closes on a_rest_kept / a_hold_rest_no_pop",
            "NOPROOF"),
+    Mutant("core_arc_not_flushed", "halfpoint_core", "rtl/halfpoint_core.v",
+           ".abort_now (flush),\n        .start_en  (!line_run),",
+           ".abort_now (1'b0),\n        .start_en  (!line_run),",
+           ("compose_na2",),
+           "a flush leaves the arc unit's command, which runs after the queue was "
+           "dropped: the composed proof (the arc unit read with its properties) no "
+           "longer closes, on i_arc_in_flight; with the arc unit's contract assumed, "
+           "as before 2026-11-25, compose_na2 passed on this mutant",
+           "NOPROOF"),
     Mutant("core_push_when_full", "halfpoint_core", "rtl/halfpoint_core.v",
            "assign s_axis_tready = (count_q != QUEUE_FULL) && !abort_q && !stage_stopped;",
            "assign s_axis_tready = !abort_q && !stage_stopped;",
