@@ -546,8 +546,10 @@ module halfpoint_profile #(
     // steps a tick apart
     // ------------------------------------------------------------------
     wire          tick_done = tick_done_q;
-    wire          step_up = (target_q > v_q) && (!last_up_q || tick_done);
-    wire          step_down = (target_q < v_q) && (!last_down_q || tick_done);
+    wire          may_step_up = !last_up_q || tick_done;
+    wire          may_step_down = !last_down_q || tick_done;
+    wire          step_up = (target_q > v_q) && may_step_up;
+    wire          step_down = (target_q < v_q) && may_step_down;
     wire [37:0]   v_plus = v_q + {4'd0, accel_q};
     wire [37:0]   v_minus = v_q - {4'd0, accel_q};
     // v + accel > target: v + accel + ~target >= 0 (40 bits signed; the
@@ -583,15 +585,17 @@ module halfpoint_profile #(
                                        : (segment_runs ? at_cap : !take_idle))
                               || credit_q[41];
     // v_next == 0 without the pop in front of a 38-bit compare: whether v_n is 0
-    // comes from registers (v_plus is 0 only for v = accel = 0: it is taken only
-    // when it does not pass the target, so it does not wrap), the pop ends with
-    // one gate
+    // comes from registers, the pop ends with one gate; and without the speed
+    // step's compares and clamps: with the target at 0 the speed can only fall,
+    // by accel or (clamped) to 0, so it reaches 0 exactly when it may step down
+    // and v <= accel; with the target above 0 a step down stops at the target
+    // or above it, and a step up from 0 is to min(accel, target), so v_n is 0
+    // exactly when v is 0 and does not step up by a non-zero accel
     wire          target_zero = (target_q == 38'd0);
-    wire          v_minus_zero = (v_q == {4'd0, accel_q});
-    wire          v_plus_zero = v_zero_q && (accel_q == 34'd0);
-    wire          v_up_zero = up_clamp ? target_zero : v_plus_zero;
-    wire          v_down_zero = down_clamp ? target_zero : v_minus_zero;
-    wire          v_n_zero = step_up ? v_up_zero : (step_down ? v_down_zero : v_zero_q);
+    wire          accel_zero = (accel_q == 34'd0);
+    wire          v_le_accel = (v_q <= {4'd0, accel_q});
+    wire          v_n_zero = target_zero ? (v_zero_q || (may_step_down && v_le_accel))
+                                         : (v_zero_q && !(may_step_up && !accel_zero));
 
     always @(posedge clk) begin
         if (rst || abort_now) begin
