@@ -210,3 +210,13 @@ def test_core_arc_not_flushed_breaks_the_composed_proof(tmp_path):
     assert r.status in ("FAIL", "UNKNOWN") and r.ok, r
     assert any(f.startswith(("i_arc_in_flight", "arc_handed", "arc_reject_unvalidated"))
                for f in r.failed), r.failed
+
+
+def test_assertion_label_through_a_macro():
+    """A failed assertion written through a macro (`arc_handed: `F_ARC_CONTRACT(...)`)
+    is reported by its label, as a plain `label: assert` is."""
+    src = REPO / "rtl" / "halfpoint_core.v"
+    lines = src.read_text().splitlines()
+    for label in ("arc_handed", "arc_reject_unvalidated", "i_arc_in_flight"):
+        line = next(k for k, text in enumerate(lines, 1) if f"{label}:" in text)
+        assert formal.assertion_label(src, line) == label

@@ -397,14 +397,15 @@ def task_options(sbyexe: Path, sby: Path, task: str) -> dict[str, str]:
 
 
 def assertion_label(src: Path, line: int) -> str:
-    """The label of the assertion at this line (`label: assert`, or in a
-    generate loop, where Yosys would see one label many times, `assert(...  //
-    label`), if any."""
+    """The label of the assertion at this line (`label: assert`, `label:
+    `MACRO(` for an assertion written through a macro such as the core's
+    F_ARC_CONTRACT, or in a generate loop, where Yosys would see one label many
+    times, `assert(...  // label`), if any."""
     try:
         text = src.read_text().splitlines()[line - 1]
     except (OSError, IndexError):
         return ""
-    m = (re.search(r"(\w+)\s*:\s*assert", text)
+    m = (re.search(r"(\w+)\s*:\s*(?:assert|`\w+\s*\()", text)
          or re.search(r"\bassert\s*\(.*//\s*(\w+)\s*$", text))
     return m.group(1) if m else ""
 
