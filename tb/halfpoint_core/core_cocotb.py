@@ -209,7 +209,7 @@ async def owed_move_waits_under_hold(dut):
         m = bench.model
         st, si = m.stage, m.stage_inputs(inp)
         if inp.hold and st.v == 0 and st.cur is not None and si.head_valid and si.ready \
-                and st.credit >> pf.COST_SHIFT >= pf.move_cost(si.head_class, st.cur):
+                and st.covers(pf.move_cost(si.head_class, st.cur)):
             owed.append(bench.cycle)
         return model_clock(inp)
     bench.model.clock = clock

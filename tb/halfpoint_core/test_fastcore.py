@@ -233,7 +233,7 @@ def test_no_move_at_rest_under_hold_even_when_owed():
         at_rest = bool(hold and hold_before and st.v == 0 and st.cur is not None)
         if at_rest and si.head_valid and si.ready:
             held += 1
-            owed += int((st.credit >> pf.COST_SHIFT) >= pf.move_cost(si.head_class, st.cur))
+            owed += int(st.covers(pf.move_cost(si.head_class, st.cur)))
         w = m.clock(inp)
         assert not (at_rest and w is not None and w.pop), f"a move at rest under hold, {cyc}"
         hold_before, cyc = hold, cyc + 1

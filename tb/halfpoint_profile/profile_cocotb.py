@@ -732,7 +732,7 @@ class Checker:
             # (holding, no pop), though the credit has it due (the test
             # owed_move_waits_for_release below has its axes ready too)
             self.seen["held_covered"] += int(bool(inp.hold) and model.v == 0
-                                             and model.credit >> pf.COST_SHIFT >= cost)
+                                             and model.covers(cost))
         # a step that lands within 4 LSB of its target, not on it
         v, t, a = model.v, model.target, model.accel
         self.seen["near_up"] += int(t > v and 0 < abs(v + a - t) <= 4)

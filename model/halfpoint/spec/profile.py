@@ -144,9 +144,9 @@ along the path, across segment boundaries, to rest, and stays (``holding``: hold
 v = 0; then no move pops, not even one the credit already covers: such a move, owed
 by the deceleration, pops at the release); releasing it accelerates back to the
 target.  Stop does the same and, at rest, drops the current segment and credit
-(``stopped``; the core flushes its queues while stop is high at rest).  The override acts on the target,
-so its changes ramp at ``accel`` like any change of target.  Moves are only
-delayed, never reordered, merged or dropped (except by stop).
+(``stopped``; the core flushes its queues while stop is high at rest).  The override
+acts on the target, so its changes ramp at ``accel`` like any change of target.
+Moves are only delayed, never reordered, merged or dropped (except by stop).
 
 Dry queue: from ``d_stop`` on, with no next profile, the stage decelerates to the
 creep speed, so the segment ends at that speed and the stage then stops (one step
@@ -416,6 +416,10 @@ class ProfileStage:
         # being validated, leaves no trace)
         w.dry_now = bool(on and dry_mode and step)
 
+    def covers(self, cost: int) -> bool:
+        """Whether the credit covers a move of this cost (``move_cost``)."""
+        return (self.credit >> COST_SHIFT) >= cost
+
     def view(self, i: ProfileInputs) -> ProfileView:
         w = ProfileView()
         cur = self.cur
@@ -430,7 +434,7 @@ class ProfileStage:
         # at rest under hold nothing pops, not even a move the credit already
         # covers (it pops on release): holding means no step until then
         at_rest_hold = bool(i.hold and self.v == 0)
-        can_pop = bool(i.head_valid and (self.credit >> COST_SHIFT) >= w.cost)
+        can_pop = bool(i.head_valid and self.covers(w.cost))
         w.pop = can_pop and bool(i.ready) and not at_rest_stop and not at_rest_hold
         w.stopped = at_rest_stop
         w.holding = at_rest_hold
