@@ -38,32 +38,18 @@ CASES = [
      ["commands_and_replies"], {"HP_SKEW": 0.0}),
     ("halfpoint_outputs", "halfpoint_outputs", {"PWM_BITS": 4}, "outputs_cocotb",
      ["pins_and_registers_match_the_model"], {}),
-    # known failure, as uart_top's below: on Icarus the Wishbone lines stay Z
-    # (cocotbext-wishbone's master writes its idle defaults with Immediate at
-    # time 0, which Icarus does not keep), so the slave's registered request
-    # is X after the reset and regsbench's monitor fails on resp_valid at the
-    # second clock.  Driving the idle lines from regsbench gets past that, but
-    # the test then ran over 5 times its Verilator simulated time without
-    # finishing (2026-11-23, not investigated further).  test_regs_tools.py
-    # compiles both slaves with Icarus -g2005.
-    pytest.param(
-        "halfpoint_wb", "halfpoint_regs",
-        {"NA": 2, "W": 16, "DEPTH": 8, "TW": 4, "DIV": 4, "MOVE_DEPTH": 2, "PROFILE_DEPTH": 1},
-        "regs_cocotb", ["every_register"], {},
-        marks=pytest.mark.xfail(strict=True, raises=SystemExit,
-                                reason="Wishbone lines Z on Icarus, request X after reset")),
-    # known failure: uart_top_cocotb's pin monitor converts the STEP/DIR pins
-    # to int from the first clock edge, where Icarus (4-state) still shows X
-    # (the step generators' flip-flops take their reset at that edge); the
-    # fix belongs in tb/halfpoint_uart_top (skip unresolved samples).  strict:
-    # this turns into a failure once fixed, so the mark is removed then.
-    pytest.param(
-        "halfpoint_uart_top", "halfpoint_uart_top",
-        {"CLK_HZ": 1_000_000, "BAUD": 125_000, "NA": 3, "W": 32, "DEPTH": 4, "STEPLEN": 2,
-         "STEPSPACE": 2, "DIRSETUP": 1, "DIRHOLD": 1, "BTN_ACTIVE_LOW": 1, "DIV": 3},
-        "uart_top_cocotb", ["abort_and_reset_buttons"], {},
-        marks=pytest.mark.xfail(strict=True, raises=SystemExit,
-                                reason="uart_top_cocotb reads X pins before reset")),
+    # the bench drives the Wishbone idle lines itself and makes cocotbext-wishbone's
+    # master after time 0: Icarus 11 wedges a net put with Immediate at time 0
+    # (see RegsBench.start); test_regs_tools.py compiles both slaves with -g2005
+    ("halfpoint_wb", "halfpoint_regs",
+     {"NA": 2, "W": 16, "DEPTH": 8, "TW": 4, "DIV": 4, "MOVE_DEPTH": 2, "PROFILE_DEPTH": 1},
+     "regs_cocotb", ["every_register"], {}),
+    # the pin monitor skips the STEP/DIR samples before the power-on reset's
+    # first edge (X on Icarus) and fails on X or Z after it
+    ("halfpoint_uart_top", "halfpoint_uart_top",
+     {"CLK_HZ": 1_000_000, "BAUD": 125_000, "NA": 3, "W": 32, "DEPTH": 4, "STEPLEN": 2,
+      "STEPSPACE": 2, "DIRSETUP": 1, "DIRHOLD": 1, "BTN_ACTIVE_LOW": 1, "DIV": 3},
+     "uart_top_cocotb", ["abort_and_reset_buttons"], {}),
 ]
 
 

@@ -50,6 +50,7 @@ class Board:
         self.checkers = [StepDirChecker(CFG, f"axis {k}") for k in range(NA)]
         self.last_step_cycle = 0
         self.cycle = 0
+        self.reset_taken = False         # a clock edge has seen the reset (rst_q) high
         dut.uart_rx.value = 1
         dut.btn_reset.value = 1          # buttons idle high (BTN_ACTIVE_LOW = 1)
         dut.btn_abort.value = 1
@@ -57,14 +58,25 @@ class Board:
         cocotb.start_soon(self._pins())
 
     async def _pins(self):
+        """Sample STEP/DIR at every rising edge (the values before the edge).  Before
+        the first edge that takes the power-on reset, the step generators'
+        flip-flops are not initialised: a 4-state simulator (Icarus) shows X there,
+        Verilator 0.  Such samples are skipped; X or Z after the reset fails."""
         d = self.dut
         while True:
             await RisingEdge(d.clk)
-            step, dr = int(d.step.value), int(d.dir.value)
-            for k, chk in enumerate(self.checkers):
-                chk.sample((step >> k) & 1, (dr >> k) & 1)
-            if step:
-                self.last_step_cycle = self.cycle
+            step, dr = d.step.value, d.dir.value
+            resolved = step.is_resolvable and dr.is_resolvable
+            if resolved:
+                step, dr = int(step), int(dr)
+                for k, chk in enumerate(self.checkers):
+                    chk.sample((step >> k) & 1, (dr >> k) & 1)
+                if step:
+                    self.last_step_cycle = self.cycle
+            elif self.reset_taken:
+                raise AssertionError(f"cycle {self.cycle}: STEP/DIR unresolved after the "
+                                     f"reset: step={step} dir={dr}")
+            self.reset_taken = self.reset_taken or str(d.rst_q.value) == "1"
             self.cycle += 1
 
     def positions(self):

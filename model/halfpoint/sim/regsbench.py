@@ -76,12 +76,17 @@ class RegsBench:
         cocotb.start_soon(Clock(d.clk, 10, unit="ns").start())
         d.rst.value = 1
         if self.kind == "wb":
-            from cocotbext.wishbone.driver import WishboneMaster
-
-            self.master = WishboneMaster(
-                d, "wb", d.clk, width=32, timeout=1000,
-                signals_dict={"cyc": "cyc", "stb": "stb", "we": "we", "adr": "adr",
-                              "datwr": "dat_w", "datrd": "dat_r", "ack": "ack"})
+            # The Wishbone master's idle lines, driven here with ordinary (scheduled)
+            # writes, and the master made only after time 0: its constructor writes
+            # the same values with Immediate, and Icarus 11 does not take a value put
+            # before its time-0 initialisation (the lines stay Z), and such a put
+            # can leave a net downstream stuck at X for good (here wb_ack = wb_cyc
+            # && resp_valid && !resp_error: the master then waits for an ACK
+            # forever): iverilog issues #1041/#1111, fixed upstream in 2024 (PR
+            # #1065), after the 12.0 release.
+            for name in ("cyc", "stb", "we", "adr", "dat_w"):
+                getattr(d, f"wb_{name}").value = 0
+            d.wb_sel.value = 0xF
         else:
             from cocotbext.axi import AxiLiteBus, AxiLiteMaster
 
@@ -90,6 +95,13 @@ class RegsBench:
             self.master.read_if.log.setLevel(logging.WARNING)
         for _ in range(3):
             await RisingEdge(d.clk)
+        if self.kind == "wb":
+            from cocotbext.wishbone.driver import WishboneMaster
+
+            self.master = WishboneMaster(
+                d, "wb", d.clk, width=32, timeout=1000,
+                signals_dict={"cyc": "cyc", "stb": "stb", "we": "we", "adr": "adr",
+                              "datwr": "dat_w", "datrd": "dat_r", "ack": "ack"})
         await FallingEdge(d.clk)
         d.rst.value = 0
         self.model.clock(Request(), rst=1)
