@@ -213,11 +213,14 @@ def test_linuxcnc_comp_programs_keep_their_outline():
     res = compensate(prog.moves)
     comp = [m.lineno for m in prog.moves if m.comp != "off"]
     assert res.moves[-1].lineno in comp       # ends at the last offset point (no exit move)
-    outline = set(comp[1:])
+    # after the entry move, the lead-in arc (the handbook's entry move onto the
+    # part) and the closed outline: the outline is cut all round; its last block
+    # passes through the lead-in arc's scrap, as in LinuxCNC (until 2026-11-27 that
+    # block was skipped with a warning, as if the lead-in arc were part of the part)
+    assert res.warnings == [] and res.skipped == []
+    outline = set(comp[2:])
     worst, covered = oracle(res.moves, prog.moves, outline, 12.7)
-    assert worst <= 1e-6
-    # the last block would cut into the lead-in arc: skipped with a warning naming it
-    assert res.skipped == [comp[-1]] and len(covered) == len(outline) - 1
+    assert worst <= 1e-6 and covered == outline
 
 
 def test_linuxcnc_sim_tbl_loads_and_a_tool_without_d_is_an_error_only_when_used():
@@ -286,3 +289,113 @@ def test_arc_chains_do_not_accumulate(seed):
     has the longer chains)."""
     assert lattice_deviation(arc_chain(N_ARCS, seed, True)) <= 0.5 + 1e-9
     assert lattice_deviation(arc_chain(N_ARCS, seed, False)) <= 1.0 + 1e-9
+
+
+def lead_square_program(side, r, lead_in, lead_out, h=10.0, lead=6.0):
+    """A square of side 2h cut on the outside (G41 clockwise, G42 counter-clockwise),
+    entered and left mid-edge at (0, -h) through tangent lead arcs of radius ``lead``
+    below it, as CAM writes them with compensation on: ``lead_in`` / ``lead_out``
+    is "", "arc" or "line+arc" / "arc+line".  Returns (text, loop lines, lead lines)."""
+    s = -1 if side == "left" else 1          # the direction along the bottom edge
+    g_in, g_out = ("G3", "G3") if side == "left" else ("G2", "G2")
+    lines = ["G21 G90 G17 G91.1 F600", f"G0 X{-s * lead:.4f} Y{-h - lead - 12:.4f}"]
+    g = f"G41.1 D{2 * r:.4f}" if side == "left" else f"G42.1 D{2 * r:.4f}"
+    x0 = -s * lead                           # the lead-in arc's start, below the edge
+    if lead_in == "":
+        lines.append(f"{g} G1 X{x0:.4f} Y{-h - 8:.4f}")
+        lines.append("X0 Y" + f"{-h:.4f}")
+    else:
+        if lead_in == "line+arc":
+            lines.append(f"{g} G1 X{x0:.4f} Y{-h - lead - 5:.4f}")
+            lines.append(f"Y{-h - lead:.4f}")
+        else:
+            lines.append(f"{g} G1 X{x0:.4f} Y{-h - lead:.4f}")
+        lines.append(f"{g_in} X0 Y{-h:.4f} I{s * lead:.4f} J0")
+    n0 = len(lines) + 1
+    pts = [(s * h, -h), (s * h, h), (-s * h, h), (-s * h, -h), (0, -h)]
+    lines += [f"G1 X{x:.4f} Y{y:.4f}" for x, y in pts]
+    loop = set(range(n0, n0 + len(pts)))
+    if lead_out:
+        lines.append(f"{g_out} X{s * lead:.4f} Y{-h - lead:.4f} I0 J{-lead:.4f}")
+        if lead_out == "arc+line":
+            lines.append(f"G1 Y{-h - lead - 5:.4f}")
+        lines.append(f"G40 G1 X{s * lead:.4f} Y{-h - lead - 12:.4f}")
+    else:
+        lines.append(f"G40 G1 X{x0:.4f} Y{-h - 8:.4f}")
+    lines.append("M2")
+    comp = set(range(3, len(lines))) - {len(lines) - 1}
+    return "\n".join(lines), loop, comp - loop
+
+
+@pytest.mark.parametrize("side", ["left", "right"])
+@pytest.mark.parametrize("lead_in", ["", "arc", "line+arc"])
+@pytest.mark.parametrize("lead_out", ["", "arc", "arc+line"])
+@pytest.mark.parametrize("r", [1.0, 3.0])
+def test_closed_part_with_lead_in_and_lead_out_is_cut_all_round(side, lead_in, lead_out, r):
+    """CAM's compensation in control: tangent lead-in and lead-out arcs (and a line
+    before or after them) programmed with G41/G42 on around a closed part.  The
+    loop is the part: cut all round at r from it, none of its blocks skipped, and
+    no warning; the lead moves are cut too (their tool path also at r from the part)
+    though the part's own path passes through their scrap.  Until 2026-11-27 the
+    lead arcs counted as part of the part: the whole square was skipped with a
+    warning (exit 0), or the G40 move was an error."""
+    text, loop, leads = lead_square_program(side, r, lead_in, lead_out)
+    prog = parse(text)
+    res = compensate(prog.moves)
+    assert res.warnings == [] and res.skipped == []
+    worst, covered = oracle(res.moves, prog.moves, loop, r)
+    assert worst <= 1e-6 and covered == loop
+    lead_cut = {m.lineno for m in res.moves if m.lineno in leads and m.kind != "rapid"}
+    assert lead_cut == leads                     # the entry move and every lead block
+    # the lead moves' own path keeps its distance from the part too
+    worst_all, _ = oracle([m for m in res.moves if m.lineno in leads], prog.moves, loop, r)
+    assert worst_all <= 1e-6
+    # the loop's offset is the square's grown by r: every edge at r, on the outside
+    for m in res.moves:
+        if m.lineno in loop and m.kind == "line" and m.start[:2] != m.end[:2]:
+            x, y = m.start[:2]
+            assert max(abs(x), abs(y)) == pytest.approx(10.0 + r, abs=1e-9)
+    # and the path ends at the G40 move's end
+    assert math.dist(res.moves[-1].end[:2], prog.moves[-1].end[:2]) < 1e-9
+
+
+def test_lead_arc_into_the_part_is_not_cut_silently():
+    """A "lead-in" arc on the part's side (inside the square cut on the outside):
+    the loop's rule does not exempt its tool path from the distance to the part,
+    so it is never cut into the part: an error, or a warning with the part intact."""
+    text = "\n".join([
+        "G21 G90 G17 G91.1 F600", "G0 X6 Y0",
+        "G41.1 D6 G1 X6 Y-4",               # inside the square
+        "G2 X0 Y-10 I-6 J0",                # down onto the bottom edge from inside
+        "G1 X-10 Y-10", "G1 X-10 Y10", "G1 X10 Y10", "G1 X10 Y-10", "G1 X0 Y-10",
+        "G40 G1 X0 Y-20", "M2"])
+    prog = parse(text)
+    loop = set(range(5, 10))
+    try:
+        res = compensate(prog.moves)
+    except GcodeError:
+        return
+    worst, _ = oracle(res.moves, prog.moves, loop, 3.0)
+    assert worst <= 1e-6 and res.warnings
+
+
+@pytest.mark.parametrize("points, expected", [
+    # ends where it began: the whole stretch is the loop
+    ([(0, 0), (10, 0), (10, 10), (0, 10), (0, 0)], (0, 4)),
+    # one block of lead-in, the loop, one of lead-out
+    ([(-5, -5), (0, 0), (10, 0), (10, 10), (0, 10), (0, 0), (-5, 5)], (1, 5)),
+    # two of lead-in, none of lead-out
+    ([(-9, -9), (-5, -5), (0, 0), (10, 0), (10, 10), (0, 10), (0, 0)], (2, 6)),
+    # three blocks before the loop: not a lead-in, the stretch stays open
+    ([(-9, 0), (-9, -9), (-5, -5), (0, 0), (10, 0), (10, 10), (0, 10), (0, 0)], None),
+    # out and back along a line encloses nothing
+    ([(0, 0), (5, 0), (10, 0), (5, 0)], None),
+    # an open contour
+    ([(0, 0), (10, 0), (10, 10)], None),
+])
+def test_loop_of_a_stretch(points, expected):
+    from halfpoint.cam.comp import _loop
+    from halfpoint.cam.gcode import Move
+    xy = [Move("line", (*a, 0.0), (*b, 0.0), k + 3, 600.0)
+          for k, (a, b) in enumerate(zip(points, points[1:]))]
+    assert _loop(points[0], xy) == expected

@@ -68,8 +68,15 @@ KEEP_TOL = 1e-7         # a piece is kept at distance >= r - KEEP_TOL
 MIN_PIECE = 1e-9        # pieces shorter than this are points
 CHORD_TOL = 1e-9        # a corner arc this close to its chord is run as the chord
 REACH_TOL = 1e-3        # a kept stretch shorter than this may stay unreached
+LEAD_BLOCKS = 2         # at most this many blocks before / after a closed loop are its
+                        # lead-in / lead-out
 
 ENTRY, CONTOUR, CORNER, CONNECTOR, EXIT = range(5)
+# a closed loop's lead-in and lead-out (offset blocks and their corners): like
+# CONTOUR pieces, kept only at r from the loop and checked for gouges, but, like
+# the entry and exit moves, not in the self-crossing check: they end and start
+# where the loop is joined, which the loop returns to
+LEAD = 5
 
 
 @dataclass
@@ -154,6 +161,33 @@ def _line_ranges(lines: list[int], most: int = 8) -> str:
     return "lines " + ", ".join(parts) + more
 
 
+def _loop(start_xy, xy: list[Move]):
+    """The closed loop of a stretch, as (a, b): its blocks ``xy[a:b]`` (the
+    blocks with XY motion, after the entry move; an arc entry counts as the
+    first) return to the point where block a starts.  ``(0, len(xy))`` for a
+    stretch that ends where it began.  Otherwise the loop may have up to
+    LEAD_BLOCKS blocks before it, a lead-in, and up to LEAD_BLOCKS after it, a
+    lead-out (CAM's tangent lead-in and lead-out arcs and lines, programmed
+    with compensation on: LinuxCNC's handbook calls them entry moves); the
+    shortest lead-in and then the shortest lead-out are taken.  A loop of one
+    block is a full circle; of two, it has an arc (a line out and back
+    encloses nothing).  None for an open stretch."""
+    n = len(xy)
+    if n == 0:
+        return None
+    verts = [start_xy] + [m.end[:2] for m in xy]
+    if _close(verts[n], verts[0], 1e-6):
+        return 0, n
+    for a in range(0, min(LEAD_BLOCKS, n - 1) + 1):
+        for b in range(n, a, -1):
+            if n - b > LEAD_BLOCKS:
+                break
+            if _close(verts[b], verts[a], 1e-6) and \
+                    (b - a >= 3 or any(m.kind == "arc" for m in xy[a:b])):
+                return a, b
+    return None
+
+
 class _Stretch:
     """One compensated stretch: builds, cuts, keeps and follows its pieces."""
 
@@ -168,6 +202,7 @@ class _Stretch:
         self.pieces: list[Piece] = []
         self.cycle0 = 0
         self.closed = False
+        self.lead_out: list[Move] = []  # moves after the closed loop, before G40
         self.entry_outside = True
         self.feed = entry.feed or next((m.feed for m in contour if m.feed), 0.0) or 1.0
         self.trim_entry = False
@@ -264,9 +299,28 @@ class _Stretch:
         moving = [m.kind == "arc" or not _close(m.start, m.end, 1e-12) for m in self.contour]
         xy = [m for m, f in zip(self.contour, moving) if f]
         start_xy = e.start[:2] if e.kind == "arc" else p0
-        self.closed = len(xy) > 0 and _close(xy[-1].end, start_xy, 1e-6)
+        loop = _loop(start_xy, xy)
+        self.closed = loop is not None
+        loop_first = None
+        if loop is not None:
+            a, b = loop
+            loop_first = xy[a]
+            if b < len(xy):
+                # the lead-out: its moves (from its first block on) are offset after
+                # the loop has been followed round (lead_out_moves)
+                cut = next(k for k, m in enumerate(self.contour) if m is xy[b])
+                self.lead_out = self.contour[cut:]
+                self.contour = self.contour[:cut]
+                moving = moving[:cut]
+            xy = xy[:b]
         self.prog_of = {m.lineno: _programmed_element(m) for m in xy}
+        # what the tool must keep its radius from: the loop of a closed stretch (its
+        # lead-in, like the entry move, and its lead-out lie in the scrap), every block
+        # of an open one
+        self.protected = {m.lineno: self.prog_of[m.lineno]
+                          for m in xy[0 if loop is None else loop[0]:]}
         first_piece = None
+        loop_piece = None
         prog_end = self.entry.end[:2]
         pending_gap = False         # a block without offset since the last piece
         for idx, m in enumerate(self.contour):
@@ -305,11 +359,19 @@ class _Stretch:
             piece = Piece(el, m.lineno, CONTOUR, m.kind, m.feed or self.feed, z0, z1)
             if is_first:
                 first_piece = piece
+                if not self.closed:
+                    self.cycle0 = len(self.pieces)
+            if loop_piece is None and self.closed and m.lineno in self.protected:
+                # the loop's first block with an offset: the loop closes onto it
+                loop_piece = piece
                 self.cycle0 = len(self.pieces)
             self.pieces.append(piece)
         if first_piece is None:
             raise GcodeError(self.contour[0].lineno, "the tool cannot follow this contour at all")
+        if self.closed and loop_piece is None:
+            raise GcodeError(loop_first.lineno, "the tool cannot follow this contour at all")
         if self.closed:
+            first_piece = loop_piece
             last = self.pieces[-1]
             m_first = next(m for m in self.contour if m.lineno == first_piece.src)
             start0 = _offset(m_first, self.side, r).start
@@ -324,6 +386,9 @@ class _Stretch:
             for p in extra:
                 p.z0 = p.z1 = last.z1
             self.pieces += extra
+            for p in self.pieces[:self.cycle0]:
+                if p.role in (CONTOUR, CORNER):
+                    p.role = LEAD
         x = self.exit_move
         if not self.closed and x is not None and x.kind != "arc" and \
                 math.dist(x.start[:2], x.end[:2]) > TOL:
@@ -782,6 +847,68 @@ class _Stretch:
         self.stray = [ev for p in pieces if p.events for ev in p.events if id(ev) not in emitted]
         return out
 
+    def emit_lead_out(self, out: list[Move]) -> list[Move]:
+        """The closed loop's lead-out after the loop's moves ``out``: the Z-only
+        moves left at the path's end first, then each lead-out block offset to the
+        tool's side and joined like any corner, from the point where the loop was
+        joined (role LEAD: checked with the rest against the loop)."""
+        r = self.r
+        last = self.path[-1]
+        z = out[-1].end[2]
+        end = last.end
+        for ev in self.stray:
+            out.append(Move(ev.kind, (end[0], end[1], z), (end[0], end[1], ev.end[2]),
+                            ev.lineno, ev.feed))
+            z = ev.end[2]
+        self.stray = []
+        # the loop's last element, as the piece the first corner joins (not trimmed)
+        prev = Piece(last, last.src, CONTOUR, "line", self.feed, z, z)
+        pieces: list[Piece] = []
+        prog_end = self.prog_of[last.src].end if last.src in self.prog_of else end
+        for m in self.lead_out:
+            if m.kind != "arc" and _close(m.start[:2], m.end[:2], 1e-12):
+                holder = pieces[-1] if pieces else None
+                if holder is None:
+                    out.append(Move(m.kind, (end[0], end[1], z), (end[0], end[1], m.end[2]),
+                                    m.lineno, m.feed))
+                    z = m.end[2]
+                else:
+                    holder.events = (holder.events or []) + [m]
+                continue
+            el = _offset(m, self.side, r)
+            if el is None:
+                raise GcodeError(m.lineno, "the tool cannot follow the lead-out arc "
+                                           "(concave, smaller than the tool)")
+            extra, el, _ = self._corner(prev, el, m.start[:2], m.lineno, m.feed or self.feed,
+                                        trim=bool(pieces),
+                                        gap=math.dist(prog_end, m.start[:2]))
+            for q in extra:
+                q.role = LEAD
+                q.z0 = q.z1 = prev.z1
+            piece = Piece(el, m.lineno, LEAD, m.kind, m.feed or self.feed, m.start[2], m.end[2])
+            pieces += extra + [piece]
+            prev = piece
+            prog_end = _programmed_element(m).end
+        if self.path_arr is not None and pieces:
+            self.path_arr = None
+        for p in pieces:
+            el = p.el
+            self.path.append(el)
+            self.path_roles.append(LEAD)
+            self.path_out.append(len(out))
+            (sx, sy), (tx, ty) = el.start, el.end
+            if type(el) is Line:
+                kind = p.kind if p.kind != "arc" else "line"
+                out.append(Move(kind, (sx, sy, p.z0), (tx, ty, p.z1), p.src,
+                                0.0 if kind == "rapid" else p.feed))
+            else:
+                out.append(Move("arc", (sx, sy, p.z0), (tx, ty, p.z1), p.src, p.feed, el.c,
+                                el.sweep < 0, 17))
+            for ev in p.events or ():
+                out.append(Move(ev.kind, (tx, ty, ev.start[2]), (tx, ty, ev.end[2]),
+                                ev.lineno, ev.feed))
+        return out
+
 
 class _NoTrim(Exception):
     """The LinuxCNC entry trim does not apply to this entry."""
@@ -794,7 +921,7 @@ def _stretch(entry, contour, side, r, exit_move, trim_entry):
     st.trim_entry = trim_entry
     st.build()
     st.cut()
-    programmed = list(st.prog_of.values())
+    programmed = list(st.protected.values())
     prog_arr = pack(programmed)
     # an arc runs about its centre with its start radius; its end may be
     # a rounding error (at most LinuxCNC's arc tolerance) away from where
@@ -816,9 +943,13 @@ def _violations(path, roles, programmed, prog_arr, r, tol, arr=None):
     body = [path[k] for k in keep]
     body_arr = arr[keep] if arr is not None else pack(body)
     bad = check.gouges(body, programmed, r, tol, arrays=(body_arr, prog_arr))
-    crossings = check.self_crossings(body, arr=body_arr) if not bad else []
-    return ([(keep[i], j, d) for i, j, d in bad],
-            [(keep[i], keep[j]) for i, j in crossings])
+    if bad:
+        return [(keep[i], j, d) for i, j, d in bad], []
+    # the self-crossing check leaves out a closed loop's lead-in and lead-out too
+    loop = [k for k, role in enumerate(roles) if role not in (ENTRY, EXIT, LEAD)]
+    crossings = check.self_crossings([path[k] for k in loop],
+                                     arr=arr[loop] if arr is not None else None)
+    return [], [(loop[i], loop[j]) for i, j in crossings]
 
 
 def _checked(st, out, programmed, prog_arr, r, tol, strict):
@@ -937,11 +1068,14 @@ def compensate(moves: list[Move], window: int = 5, strict: bool = False) -> Comp
             except _NoTrim:
                 raise first_error from None
         out = st.emit()
+        if st.lead_out:
+            out = st.emit_lead_out(out)
         # the independent check of the result (entry excluded)
         out, note = _checked(st, out, programmed, prog_arr, r, TOL + slack, strict)
         if note:
             warnings.append(note)
-        present = {p.src for kk in st.chain for p in [st.pieces[kk]] if p.role == CONTOUR}
+        present = {p.src for kk in st.chain for p in [st.pieces[kk]]
+                   if p.role in (CONTOUR, LEAD)}
         skipped = sorted({c.lineno for c in st.contour if c.kind == "arc" or
                           not _close(c.start[:2], c.end[:2], 1e-12)} - present - {entry.lineno})
         if skipped:
