@@ -572,3 +572,35 @@ def test_blocks_stream_to_on_block_and_state_answers_system_parameters():
     # without a state the position is not tracked
     with pytest.raises(NgcError, match="#5420 is machine state"):
         expand("G0 X#5420\nM2")
+
+
+# ------------------------------------------------------------------ program numbers
+
+@pytest.mark.parametrize("head", [
+    "O1000 (Example)\n",                        # LinuxCNC's o-code.adoc: "o1 (Example 1)"
+    "%\nO08787 (HAAS PECK)\n(T1 D=6.35)\n",     # a Fanuc / Haas post's header
+    "(header)\n\nN10 o12\n",
+])
+def test_program_number_as_first_block_is_accepted(head):
+    """A bare O number as the main program's first block (after %, comments and
+    blank lines) is its program number (LinuxCNC: Fanuc-style numbered programs,
+    the optional main program block): no block, the program runs as without it.
+    Until 2026-11-27 it was refused as an unknown O-word keyword, on a Haas post's
+    output."""
+    body = "G21 G90\nG0 X1 Y2\nM30\n"
+    with_number = parse(expand(head + body).text()).moves
+    assert [(m.kind, m.end) for m in with_number] == \
+        [(m.kind, m.end) for m in parse(body).moves]
+
+
+def test_program_number_elsewhere_is_an_error_naming_the_line(tmp_path):
+    """A bare O number after the first block, or in a called file, would be a
+    numbered subprogram (O100 ... M99, called by M98), which is not supported."""
+    e = error("G21\nO100\nG0 X1\nM2")
+    assert e.lineno == 2 and "program number is taken only as the main program's first" \
+        in e.reason and "M98" in e.reason
+    (tmp_path / "part.ngc").write_text("O7\no<part> sub\nG0 X1\no<part> endsub\nM2\n")
+    e = error("o<part> call\nM2", search_path=[tmp_path])
+    assert e.lineno == 1 and e.source.endswith("part.ngc")
+    e = error("o<abc>\nG0 X1\nM2")              # a named O word still needs its keyword
+    assert "unknown O-word keyword" in e.reason

@@ -74,7 +74,9 @@ Where this differs from LinuxCNC (the refusals are errors naming the line):
   no other words and no message (LinuxCNC leaves both undefined).
 * ``(LOG,``, ``(LOGOPEN,``, ``(LOGAPPEND,``, ``(LOGCLOSE)``, ``(PROBEOPEN``,
   ``(PROBECLOSE)`` are refused (they write files).  Fanuc-style ``O100``
-  programs with ``M98``/``M99`` are not supported.
+  programs with ``M98``/``M99`` are not supported; a bare ``O1000 (title)`` as
+  the main program's first block (after ``%``, comments and blank lines) is
+  its program number, as in LinuxCNC, and yields no block.
 * Limits: subroutine calls nest at most ``max_depth`` deep (10, LinuxCNC's
   limit); at most ``max_iterations`` loop iterations run in the whole program
   (1 000 000; LinuxCNC has no limit), an error naming the loop's line.
@@ -430,6 +432,10 @@ class _Reader:
         else:
             raise self.fail("O-word needs a number, <name> or [expression]")
         keyword = next((k for k in _KEYWORDS if self.s.startswith(k, self.pos)), None)
+        if keyword is None and name[1:].isdigit() and self.pos == len(self.s):
+            # a number alone: a Fanuc-style program block (its use is checked by
+            # _structure: the main program's number, as its first block)
+            return name, value, "program", []
         if keyword is None:
             raise self.fail("unknown O-word keyword (sub, endsub, call, return, if, elseif, "
                             "else, endif, while, endwhile, do, repeat, endrepeat, break, "
@@ -616,6 +622,17 @@ class _Sub:
     end: _Line
 
 
+def _comment_only(line: _Line) -> bool:
+    """A line of comments alone (no words, no settings)."""
+    if line.kind != "plain":
+        return False
+    try:
+        code, _ = _split_comments(line.text, line)
+    except NgcError:
+        return False
+    return not code.strip()
+
+
 def _structure(lines: list[_Line], subs: dict[str, _Sub]) -> list:
     """O-word structure of one file -> its top-level statements; subs registered."""
     top = _Open("top", "", lines[0] if lines else _Line(0, "", ""))
@@ -628,12 +645,25 @@ def _structure(lines: list[_Line], subs: dict[str, _Sub]) -> list:
         raise line.fail(f"{line.label} does not match the open {inner.name} {inner.kind} "
                         f"(line {inner.line.lineno})")
 
+    before_code = True              # no block read yet but %, comments and blank lines
     for line in lines:
         if line.kind != "oword":
             if line.kind != "blank":
                 stack[-1].body.append(("line", line))
+                before_code = before_code and (line.kind == "percent" or _comment_only(line))
             continue
         kw, name, inner = line.keyword, line.oname, stack[-1]
+        if kw == "program":
+            # LinuxCNC's optional main program block, "o1 (Title)" (o-code.adoc,
+            # Fanuc-style numbered programs): the program's number, no block.  A
+            # numbered subprogram (O100 ... M99, called by M98) is not supported.
+            if not (before_code and line.source == ""):
+                raise line.fail(f"{name} without a keyword: a program number is taken only as "
+                                "the main program's first block; numbered subprograms "
+                                "(O100 ... M99, M98 calls) are not supported")
+            before_code = False
+            continue
+        before_code = False
         if kw == "sub":
             if inner.kind != "top":
                 raise line.fail(f"{line.label} inside {inner.name} {inner.kind} (line "
