@@ -18,7 +18,7 @@ import pytest
 
 from halfpoint.cam.comp import compensate
 from halfpoint.cam.gcode import GcodeError, load_tool_table, parse
-from halfpoint.cam.geom import Arc, Line
+from halfpoint.cam.geom import Arc, Line, Spiral
 from halfpoint.cam.quant import quantise
 from halfpoint.cam.segments import run_segments_model
 
@@ -30,6 +30,14 @@ N_ARCS = int(os.environ.get("HP_FIDELITY_ARCS", "100"))
 def element(m):
     if m.kind == "arc":
         return Arc.from_points(m.center, m.start[:2], m.end[:2], m.cw)
+    return Line(m.start[:2], m.end[:2])
+
+
+def programmed(m):
+    """A programmed block as the core runs it: an arc whose end is off its start's
+    circle (a rounding of the program's decimals) as LinuxCNC's spiral."""
+    if m.kind == "arc":
+        return Spiral.from_points(m.center, m.start[:2], m.end[:2], m.cw)
     return Line(m.start[:2], m.end[:2])
 
 
@@ -273,7 +281,7 @@ def lattice_deviation(text, blu=0.001):
     trace = run_segments_model(q.cmds)
     worst, k = 0.0, 0
     for m, n in zip(q.src, q.moves_per_cmd):
-        el = element(m)
+        el = programmed(m)
         for p in trace[k:k + n]:
             worst = max(worst, el.distance((p[0] * blu, p[1] * blu)) / blu)
         k += n

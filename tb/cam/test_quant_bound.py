@@ -21,7 +21,7 @@ import random
 import pytest
 
 from halfpoint.cam.gcode import parse
-from halfpoint.cam.geom import Arc, Line
+from halfpoint.cam.geom import Line, Spiral
 from halfpoint.cam.quant import quantise
 from halfpoint.cam.segments import run_segments_model
 
@@ -30,8 +30,10 @@ BOUND = 1.0
 
 
 def element(m):
+    """A block as the core runs it: an arc whose end is off its start's circle (a
+    rounding of the program's decimals) as LinuxCNC's spiral (geom.Spiral)."""
     if m.kind == "arc":
-        return Arc.from_points(m.center, m.start[:2], m.end[:2], m.cw)
+        return Spiral.from_points(m.center, m.start[:2], m.end[:2], m.cw)
     return Line(m.start[:2], m.end[:2])
 
 
@@ -125,3 +127,55 @@ def test_the_bound_is_not_met_by_placing_each_arc_once():
     finally:
         quant.PIECE_TARGET, quant.BOUND = saved
     assert worst > BOUND, worst
+
+
+def spiral_deviation(text, blu=0.001):
+    """(worst distance in BLU of a core position on an arc's commands from that
+    arc, taken as LinuxCNC runs it: about the centre, the radius in proportion to
+    the angle from the start's to the end's; the final position)."""
+    prog = parse(text)
+    q = quantise(prog.moves, (blu,) * 3)
+    trace = run_segments_model(q.cmds)
+    worst, k = 0.0, 0
+    for m, n in zip(q.src, q.moves_per_cmd):
+        if m.kind == "arc":
+            cx, cy = m.center[0] / blu, m.center[1] / blu
+            sx, sy = m.start[0] / blu - cx, m.start[1] / blu - cy
+            ex, ey = m.end[0] / blu - cx, m.end[1] / blu - cy
+            r0, r1 = math.hypot(sx, sy), math.hypot(ex, ey)
+            a0, a1 = math.atan2(sy, sx), math.atan2(ey, ex)
+            sweep = -((a0 - a1) % (2 * math.pi)) if m.cw else (a1 - a0) % (2 * math.pi)
+            for p in trace[k:k + n]:
+                dx, dy = p[0] - cx, p[1] - cy
+                a = math.atan2(dy, dx)
+                t = ((a - a0) % (2 * math.pi) if sweep > 0 else (a0 - a) % (2 * math.pi)) \
+                    / abs(sweep)
+                if t <= 1.0:
+                    worst = max(worst, abs(math.hypot(dx, dy) - (r0 + (r1 - r0) * t)))
+        k += n
+    return worst, trace[-1]
+
+
+@pytest.mark.parametrize("mismatch_um, radius_mm, sweep", [
+    (2.36, 5.089398, math.pi),          # a 4-decimal CAM post's rounding (a public program)
+    (5.0, 10.0, math.pi / 2),           # LinuxCNC's 0.005 mm
+    (-4.0, 3.0, 1.5 * math.pi),
+    (20.0, 20.0, math.pi),              # within 0.1 % of the radius: LinuxCNC accepts it
+    (-12.0, 15.0, 0.5),
+])
+def test_arc_with_its_end_off_the_circle_follows_linuxcncs_spiral(mismatch_um, radius_mm,
+                                                                   sweep):
+    """An arc whose end is off its start's circle (within LinuxCNC's arc end check)
+    runs as LinuxCNC runs it, a spiral from the start's radius to the end's, ending
+    at the programmed end: every lattice point within 1 BLU of that spiral.  Until
+    2026-11-27 the arc ran on the start's circle and a correcting line at its end
+    went straight to the programmed end: 2 BLU off for a CAM post's 2.36 um, a
+    20 um plunge for the 0.1 % case."""
+    r1 = radius_mm + mismatch_um / 1000
+    ex, ey = r1 * math.cos(sweep), r1 * math.sin(sweep)
+    text = "\n".join(["G21 G90 G17 G91.1 F600", f"G0 X{radius_mm:.6f} Y0",
+                      f"G3 X{ex:.6f} Y{ey:.6f} I{-radius_mm:.6f} J0", f"G1 X{ex:.6f} Y-1",
+                      "M2"])
+    worst, end = spiral_deviation(text)
+    assert worst <= BOUND, worst
+    assert end == (round(ex * 1000), -1000, 0)

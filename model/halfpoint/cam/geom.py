@@ -186,6 +186,50 @@ class Arc:
         return min(math.hypot(p[0] - s[0], p[1] - s[1]), math.hypot(p[0] - e[0], p[1] - e[1]))
 
 
+@dataclass
+class Spiral:
+    """A programmed arc as LinuxCNC runs it when its end is not on the start's
+    circle (within the arc end check's tolerance): about the programmed centre,
+    the radius changing in proportion to the angle from the start's radius r0
+    to the end's r1, so that it ends at the programmed end.  With r0 == r1 it is
+    the circular arc."""
+    c: tuple[float, float]
+    r0: float
+    r1: float
+    a0: float                   # start angle
+    sweep: float                # signed, negative = clockwise
+
+    @staticmethod
+    def from_points(c, s, e, cw: bool, full_if_closed=True):
+        arc = Arc.from_points(c, s, e, cw, full_if_closed=full_if_closed)
+        return Spiral(c, arc.r, math.hypot(e[0] - c[0], e[1] - c[1]), arc.a0, arc.sweep)
+
+    def radius(self, t: float) -> float:
+        return self.r0 + (self.r1 - self.r0) * t
+
+    def point(self, t: float):
+        a, r = self.a0 + t * self.sweep, self.radius(t)
+        return (self.c[0] + r * math.cos(a), self.c[1] + r * math.sin(a))
+
+    def param(self, p) -> float | None:
+        """The parameter t in [0, 1] of the spiral's point in the direction of p
+        from the centre, None outside the sweep."""
+        a = math.atan2(p[1] - self.c[1], p[0] - self.c[0])
+        d = (a - self.a0) % TAU if self.sweep > 0 else (self.a0 - a) % TAU
+        t = d / abs(self.sweep) if self.sweep else 0.0
+        return t if t <= 1.0 else None
+
+    def distance(self, p) -> float:
+        """Distance of p from the spiral: radial within the sweep (an upper bound
+        of the exact distance, equal to it for a circle), else to the nearer end."""
+        d = math.hypot(p[0] - self.c[0], p[1] - self.c[1])
+        t = self.param(p) if d > 0 else None
+        if t is not None:
+            return abs(d - self.radius(t))
+        s, e = self.point(0.0), self.point(1.0)
+        return min(math.hypot(p[0] - s[0], p[1] - s[1]), math.hypot(p[0] - e[0], p[1] - e[1]))
+
+
 def boxes_overlap(a, b, tol=1e-9) -> bool:
     return not (a[2] < b[0] - tol or b[2] < a[0] - tol or a[3] < b[1] - tol or b[3] < a[1] - tol)
 

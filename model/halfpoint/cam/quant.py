@@ -46,7 +46,7 @@ from ..spec.arc import ArcRun, lattice_point_near, validate
 from ..spec.line import line_steps
 from ..spec.rules import field_range, fits
 from .gcode import PLANE_AXES, GcodeError, Move
-from .geom import Arc
+from .geom import Arc, Spiral
 
 DEFAULT_BLU = 0.001
 # lattice points and centres keep one value free at each end of the field
@@ -129,10 +129,23 @@ class _Arcs:
         self.ps = el.start
         self.pe = (m.end[0] / b, m.end[1] / b)
         self.worst = 0.0
+        # an end off the start's circle (within the arc end check's tolerance):
+        # the programmed arc is LinuxCNC's spiral from the start's radius to the
+        # end's (geom.Spiral), which every piece follows and is measured against
+        sp = Spiral(el.c, el.r, math.hypot(self.pe[0] - self.pcx, self.pe[1] - self.pcy),
+                    el.a0, el.sweep)
+        self.dr = 0.0 if self.full or abs(sp.r1 - sp.r0) < 1e-9 else sp.r1 - sp.r0
+        self.sp = sp if self.dr else None
+
+    def radius(self, t: float) -> float:
+        """The programmed radius at the fraction t of the sweep."""
+        return self.r + self.dr * t
 
     def dist(self, x: float, y: float) -> float:
         """Distance (BLU) of a lattice point from the programmed arc: radial
         in the arc's span, else to the nearer end (exact near the ends)."""
+        if self.sp is not None:
+            return self.sp.distance((x, y))
         dx, dy = x - self.pcx, y - self.pcy
         e = abs(math.sqrt(dx * dx + dy * dy) - self.r)
         ps, pe = self.ps, self.pe
@@ -145,11 +158,12 @@ class _Arcs:
 
     def place(self, t0: float, t1: float, cur):
         """(predicted error, centre, start) of the best circle for a piece."""
-        pcx, pcy, r = self.pcx, self.pcy, self.r
+        pcx, pcy = self.pcx, self.pcy
         a, b = self.angle(t0), self.angle(t1)
         dirs = [(math.cos(a + (b - a) * k / (_SAMPLES - 1)),
                  math.sin(a + (b - a) * k / (_SAMPLES - 1))) for k in range(_SAMPLES)]
-        qx, qy = pcx + r * dirs[0][0], pcy + r * dirs[0][1]
+        radii = [self.radius(t0 + (t1 - t0) * k / (_SAMPLES - 1)) for k in range(_SAMPLES)]
+        qx, qy = pcx + radii[0] * dirs[0][0], pcy + radii[0] * dirs[0][1]
         starts = {(x, y) for x in range(math.floor(qx) - 1, math.ceil(qx) + 2)
                   for y in range(math.floor(qy) - 1, math.ceil(qy) + 2)
                   if (x - qx) ** 2 + (y - qy) ** 2 <= 2.25}
@@ -165,8 +179,8 @@ class _Arcs:
                     if r02 == 0:
                         continue
                     r0 = math.sqrt(r02)
-                    err = max(abs(math.sqrt(max(r02 + 2 * r0 * p + d2, 0.0)) - r)
-                              for p in proj)
+                    err = max(abs(math.sqrt(max(r02 + 2 * r0 * p + d2, 0.0)) - rk)
+                              for p, rk in zip(proj, radii))
                     err = max(err, self.dist(sx, sy))
                     # within ACCEPT_CUR, staying where the core is (no
                     # correcting line) comes first
@@ -188,6 +202,12 @@ class _Arcs:
         (sx, sy), (ex, ey) = self.ps, self.pe
         ax, ay = c[0], c[1]
         worst = 0.0
+        if self.sp is not None:             # a spiral: every point against it
+            sp = self.sp
+            while not run.done:
+                adv()
+                worst = max(worst, sp.distance((run.x + ax, run.y + ay)))
+            return run.x + ax, run.y + ay, run.moves, worst
         while not run.done:
             adv()
             x, y = run.x, run.y
@@ -323,8 +343,8 @@ def _arc_cmds(q: Quantised, m: Move, b: float, cur, width: int, rate_q: int, lin
             xe, ye = xs, ys             # a programmed full circle in one piece
         else:
             ang = A.angle(t1)
-            ex = A.pcx + A.r * math.cos(ang) - c[0]
-            ey = A.pcy + A.r * math.sin(ang) - c[1]
+            ex = A.pcx + A.radius(t1) * math.cos(ang) - c[0]
+            ey = A.pcy + A.radius(t1) * math.sin(ang) - c[1]
             if t1 == 1.0 and not A.full:
                 ex, ey = A.pe[0] - c[0], A.pe[1] - c[1]
             xe, ye = _end_point(r2, ex, ey)
@@ -378,8 +398,8 @@ def _fallback_lines(q: Quantised, m: Move, A: _Arcs, t0: float, t1: float, cur, 
     n = max(2, math.ceil(abs(A.sweep) * (t1 - t0) * A.r / 0.4))
     for k in range(n + 1):
         t = t0 + (t1 - t0) * k / n
-        a = A.angle(t)
-        to = (round(A.pcx + A.r * math.cos(a)), round(A.pcy + A.r * math.sin(a)))
+        a, rt = A.angle(t), A.radius(t)
+        to = (round(A.pcx + rt * math.cos(a)), round(A.pcy + rt * math.sin(a)))
         if k == n and t1 == 1.0 and not A.full:
             to = (round(A.pe[0]), round(A.pe[1]))
         cur = _plane_line(q, m, plane, cur, (to[0], to[1], helix.at(t)), False)
