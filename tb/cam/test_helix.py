@@ -16,9 +16,11 @@ import pytest
 
 from halfpoint.cam import machine as mc
 from halfpoint.cam.gcode import GcodeError, parse
+from halfpoint.cam.geom import Arc
 from halfpoint.cam.planner import plan, plane_share
 from halfpoint.cam.quant import quantise
 from halfpoint.cam.run import run_program
+from halfpoint.cam.segments import run_segments_model
 from halfpoint.sim.engines import executor
 from halfpoint.spec import encoding as enc
 
@@ -142,11 +144,32 @@ def test_plane_axes_need_the_same_blu(tmp_path):
         quantise(prog.moves, (0.01, 0.01, 0.02))
 
 
-def test_a_helix_too_steep_for_the_core_is_an_error_naming_its_line():
-    # 0.05 mm radius, 1 mm down in a half turn: 100 BLU of Z over about 20 arc moves
+def test_a_helix_too_steep_for_the_core_runs_as_lines_along_it():
+    """0.05 mm radius, 1 mm down in a half turn: 100 BLU of Z over about 20 arc
+    moves, more than the helix mapper's one step per arc move (Inkscape gcodetools
+    plunges so in its first arc; LinuxCNC and grbl run it).  It runs as short
+    lines through the lattice points nearest the arc, Z where the helix is there,
+    noted by the line; until 2026-11-27 it was an error."""
     prog = parse("G21 G90 F100\nG0 X0.1\nG2 X0 Y0 Z-1 I-0.05 J0\nM2")
-    with pytest.raises(GcodeError, match="line 3: helix too steep for the core"):
-        quantise(prog.moves, (0.01,) * 3)
+    q = quantise(prog.moves, (0.01,) * 3)
+    assert q.steep == [3] and q.arcs == 0 and q.fallback > 0
+    trace = run_segments_model(q.cmds)
+    assert trace[-1] == (0, 0, -100)
+    arc = prog.moves[1]
+    el = Arc.from_points(arc.center, arc.start[:2], arc.end[:2], arc.cw)
+    k, points = 0, []
+    for m, n in zip(q.src, q.moves_per_cmd):
+        if m is arc:
+            points += trace[k:k + n]
+        k += n
+    zs = [p[2] for p in points]
+    assert zs == sorted(zs, reverse=True) and len(points) >= 100   # Z only goes down
+    for p in points:
+        assert el.distance((p[0] * 0.01, p[1] * 0.01)) <= 0.01 + 1e-12
+        # Z within one line's share of the helix's 100 BLU (and a BLU) of where the
+        # helix is at the point's angle (CW from 0)
+        t = min(max(-math.atan2(p[1], p[0] - 5) / math.pi % 2, 0.0), 1.0)
+        assert abs(p[2] - (-100 * t)) <= 100 / (q.fallback - 1) + 1 + 1e-9
 
 
 @pytest.mark.parametrize("plane", ["G18", "G19"])

@@ -31,7 +31,9 @@
   nearest lattice value, the programmed end exactly at the last piece); the
   core steps it in proportion to the piece's moves.  Correcting lines keep the
   normal axis still; a piece whose normal axis would move more BLU than the
-  arc makes moves is an error naming the line (helix too steep for the core).
+  arc makes moves (steeper than the core's helix mapper steps) runs as short
+  lines along the arc, the normal axis where the helix is there (``steep``
+  names their lines).
 * Every point and centre must fit the core's signed coordinate width; the
   error names the line.
 """
@@ -62,6 +64,7 @@ class Quantised:
     corrections: int = 0                                      # correcting lines inserted
     arcs: int = 0                                             # arc commands
     fallback: int = 0                                         # single-step lines for arcs
+    steep: list[int] = field(default_factory=list)            # lines of helices run as lines
 
 
 def _flat(m: Move):
@@ -364,14 +367,19 @@ def _arc_cmds(q: Quantised, m: Move, b: float, cur, width: int, rate_q: int, lin
                 continue
             cur = _fallback_lines(q, src, A, t0, t1, cur, plane, helix)
             continue
+        dn = helix.at(t1) - cur[2]
+        if abs(dn) > n:
+            # steeper than the helix mapper's one step of the normal axis per arc
+            # move (gcodetools plunges in its first arc): the piece runs as short
+            # lines through the lattice points nearest the arc, the normal axis
+            # where the helix is there (LinuxCNC and grbl run it)
+            if src.lineno not in q.steep:
+                q.steep.append(src.lineno)
+            cur = _fallback_lines(q, src, A, t0, t1, cur, plane, helix)
+            continue
         A.worst = max(A.worst, worst)
         # a short correcting line onto the chosen start (a few BLU at most)
         cur = _plane_line(q, src, plane, cur, (s[0], s[1], cur[2]), True)
-        dn = helix.at(t1) - cur[2]
-        if abs(dn) > n:
-            raise GcodeError(m.lineno, f"helix too steep for the core: axis "
-                                       f"{'XYZ'[plane[2]]} moves {abs(dn)} BLU over {n} arc "
-                                       f"moves (at most one step per move)")
         if dn and n >= 1 << 32:
             raise GcodeError(m.lineno, "helix too long for the core: its arc makes more moves "
                                        "than the 32-bit count holds")

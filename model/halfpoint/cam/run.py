@@ -25,7 +25,7 @@ from pathlib import Path
 
 from ..spec import encoding as enc
 from ..spec import profile as pf
-from .comp import compensate, to_gcode
+from .comp import _line_ranges, compensate, to_gcode
 from .gcode import Coolant, Spindle
 from .gcode import Dwell as GcodeDwell
 from .gcode import PLANE_AXES, Move, load_tool_table, parse
@@ -236,8 +236,13 @@ def run_program(path: str, execute=None, radius=None, tools_path=None, strict=Fa
         for p in trace[k:k + n]:
             dev = max(dev, el.distance((p[a0] * blu[a0], p[a1] * blu[a1])))
         k += n
+    notes = tuple(prog.notes)
+    if q.steep:
+        notes += (f"{_line_ranges(sorted(q.steep))}: helix steeper than the core's helix "
+                  "mapper steps (one step of the normal axis per arc move): run as short "
+                  "lines along the arc",)
     return RunResult(prog.moves, comp.moves, comp.warnings, trace, dev, tuple(blu),
-                     prog.messages, tuple(prog.notes), q.corrections, machine, summary,
+                     prog.messages, notes, q.corrections, machine, summary,
                      motion, ex, holds)
 
 
