@@ -363,8 +363,32 @@ def test_closed_part_with_lead_in_and_lead_out_is_cut_all_round(side, lead_in, l
         if m.lineno in loop and m.kind == "line" and m.start[:2] != m.end[:2]:
             x, y = m.start[:2]
             assert max(abs(x), abs(y)) == pytest.approx(10.0 + r, abs=1e-9)
-    # and the path ends at the G40 move's end
+    # and the path is continuous and ends at the G40 move's end
+    assert all(math.dist(a.end, b.start) < 1e-9 for a, b in zip(res.moves, res.moves[1:]))
     assert math.dist(res.moves[-1].end[:2], prog.moves[-1].end[:2]) < 1e-9
+
+
+@pytest.mark.parametrize("side", ["left", "right"])
+def test_lead_out_after_an_entry_trimmed_onto_the_loop(side):
+    """A straight entry onto the middle of an edge at an inside corner (LinuxCNC
+    trims it onto the edge's offset) and a tangent lead-out arc at the loop's
+    closing point: the loop is cut all round from where the entry joined it, the
+    path runs back to the closing point and leaves on the lead-out; continuous,
+    no warning, never closer than r to the square."""
+    s = 1 if side == "left" else -1
+    g, arc = ("G41.1 D6", "G3") if side == "left" else ("G42.1 D6", "G2")
+    text = "\n".join([
+        "G21 G90 G17 G91.1 F500", f"G0 X-11 Y{10 * s}",
+        f"{g} G1 X-1 Y{10 * s}", f"G1 Y{20 * s}", f"G1 X19", "G1 Y0", "G1 X-1",
+        f"G1 Y{10 * s}", f"{arc} X-6 Y{15 * s} I-5 J0", f"G40 G1 X-11 Y{15 * s}", "M2"])
+    prog = parse(text)
+    res = compensate(prog.moves)
+    assert res.warnings == [] and res.skipped == []
+    loop = set(range(4, 9))
+    worst, covered = oracle(res.moves, prog.moves, loop, 3.0)
+    assert worst <= 1e-6 and covered == loop
+    assert all(math.dist(a.end, b.start) < 1e-9 for a, b in zip(res.moves, res.moves[1:]))
+    assert math.dist(res.moves[-1].end[:2], (-11, 15 * s)) < 1e-9
 
 
 def test_lead_arc_into_the_part_is_not_cut_silently():

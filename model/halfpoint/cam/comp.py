@@ -307,7 +307,7 @@ class _Stretch:
             loop_first = xy[a]
             if b < len(xy):
                 # the lead-out: its moves (from its first block on) are offset after
-                # the loop has been followed round (lead_out_moves)
+                # the loop has been followed round (emit_lead_out)
                 cut = next(k for k, m in enumerate(self.contour) if m is xy[b])
                 self.lead_out = self.contour[cut:]
                 self.contour = self.contour[:cut]
@@ -864,7 +864,7 @@ class _Stretch:
         # the loop's last element, as the piece the first corner joins (not trimmed)
         prev = Piece(last, last.src, CONTOUR, "line", self.feed, z, z)
         pieces: list[Piece] = []
-        prog_end = self.prog_of[last.src].end if last.src in self.prog_of else end
+        prog_end = None             # the loop closes where the lead-out starts
         for m in self.lead_out:
             if m.kind != "arc" and _close(m.start[:2], m.end[:2], 1e-12):
                 holder = pieces[-1] if pieces else None
@@ -879,9 +879,15 @@ class _Stretch:
             if el is None:
                 raise GcodeError(m.lineno, "the tool cannot follow the lead-out arc "
                                            "(concave, smaller than the tool)")
+            gap = 0.0 if prog_end is None else math.dist(prog_end, m.start[:2])
             extra, el, _ = self._corner(prev, el, m.start[:2], m.lineno, m.feed or self.feed,
-                                        trim=bool(pieces),
-                                        gap=math.dist(prog_end, m.start[:2]))
+                                        trim=bool(pieces), gap=gap)
+            if not pieces and math.dist((extra[0].el if extra else el).start, end) > 1e-9:
+                # the path was joined past the loop's closing point (an entry trimmed
+                # onto the loop's first block): straight back to the lead-out, which
+                # the check tests like every piece
+                extra = [Piece(Line(end, el.start, m.lineno, True), m.lineno, LEAD, "line",
+                               m.feed or self.feed, z, z)]
             for q in extra:
                 q.role = LEAD
                 q.z0 = q.z1 = prev.z1
