@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 import os
 import random
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
@@ -431,3 +432,44 @@ def test_loop_of_a_stretch(points, expected):
     xy = [Move("line", (*a, 0.0), (*b, 0.0), k + 3, 600.0)
           for k, (a, b) in enumerate(zip(points, points[1:]))]
     assert _loop(points[0], xy) == expected
+
+
+@pytest.mark.parametrize("side", ["G41", "G42"])
+def test_compensated_full_circle_after_a_lead_in_arc_is_cut(side):
+    """A full circle entered through a tangent arc with compensation on: the offset
+    circle's end, from its angle, is a rounding error off its start, which the
+    quantiser took for a zero sweep: the circle was dropped silently (no warning,
+    exit 0; a hand-written public program).  It is emitted as a whole circle and
+    cut all round."""
+    inside = side == "G42"                 # right of a clockwise circle: inside
+    # a tangent entry arc onto the circle's top, from the tool's side
+    lead = ["G0 X-3 Y7", f"{side}.1 D2", "G2 X0 Y10 I3 J0"] if inside else \
+        ["G0 X-3 Y13", f"{side}.1 D2", "G3 X0 Y10 I3 J0"]
+    text = "\n".join(["G21 G90 G17 F1000", *lead,
+                      "G2 X0 Y10 I0 J-10",   # the full circle about the origin
+                      "G40 G1 X0 Y5" if inside else "G40 G1 X0 Y15", "M2"])
+    prog = parse(text)
+    res = compensate(prog.moves)
+    assert res.warnings == [] and res.skipped == []
+    circle = [m for m in res.moves if m.lineno == 5]
+    assert len(circle) == 1 and circle[0].start == circle[0].end
+    blu = 0.01
+    q = quantise(res.moves, (blu,) * 3)
+    trace = run_segments_model(q.cmds)
+    k, points = 0, []
+    for m, n in zip(q.src, q.moves_per_cmd):
+        if m.lineno == 5:
+            points += trace[k:k + n]
+        k += n
+    r = (10 + 1) / blu if not inside else (10 - 1) / blu
+    # every lattice point of the circle's commands near the offset circle, all round
+    assert all(abs(math.hypot(p[0], p[1]) - r) <= 1.0 for p in points)
+    angles = {round(math.degrees(math.atan2(p[1], p[0]))) % 360 // 30 for p in points}
+    assert angles == set(range(12))
+    # and the quantiser takes a circle whose end is a rounding error off its start for
+    # the whole circle it is (as a compensated one's was), not for a zero sweep
+    c = circle[0]
+    for dx in (-2e-15, 2e-15):
+        noisy = replace(c, end=(c.end[0] + dx, c.end[1], c.end[2]))
+        q = quantise([noisy], (blu,) * 3)
+        assert sum(q.moves_per_cmd) > 5 * r

@@ -137,6 +137,11 @@ def _param(el, p) -> float:
     return 0.0 if t is None else t
 
 
+def _full_turn(el) -> bool:
+    """Is the arc element a whole circle?"""
+    return abs(abs(el.sweep) - TAU) < 1e-9
+
+
 def _programmed_element(m: Move):
     if m.kind == "arc":
         return Arc.from_points(m.center, m.start[:2], m.end[:2], m.cw, src=m.lineno)
@@ -833,7 +838,9 @@ class _Stretch:
                                 0.0 if kind == "rapid" else first.feed))
             else:
                 sx, sy = first.el.start
-                t = last.el.end
+                # a full circle ends exactly where it starts (its end from the angle
+                # is a rounding error off, which read as a zero sweep downstream)
+                t = (sx, sy) if _full_turn(el) else last.el.end
                 out.append(Move("arc", (sx, sy, first.z0), (t[0], t[1], last.z1), first.src,
                                 first.feed, el.c, el.sweep < 0, 17))
             if last.events is None:
@@ -903,6 +910,8 @@ class _Stretch:
             self.path_roles.append(LEAD)
             self.path_out.append(len(out))
             (sx, sy), (tx, ty) = el.start, el.end
+            if type(el) is not Line and _full_turn(el):
+                tx, ty = sx, sy
             if type(el) is Line:
                 kind = p.kind if p.kind != "arc" else "line"
                 out.append(Move(kind, (sx, sy, p.z0), (tx, ty, p.z1), p.src,

@@ -67,10 +67,19 @@ class Quantised:
     steep: list[int] = field(default_factory=list)            # lines of helices run as lines
 
 
+FULL_TOL = 1e-9         # mm: an arc whose end is this close to its start is a full circle
+
+
+def _full(m: Move) -> bool:
+    """Is the arc a full circle: its end at its start (as G-code has it), or a
+    rounding error away (a compensated circle's end comes from its angle)?"""
+    return math.dist(m.start[:2], m.end[:2]) <= FULL_TOL
+
+
 def _flat(m: Move):
     """Sagitta (mm) of an arc taken the short way round (at most half a
     turn), else None."""
-    if m.start[:2] == m.end[:2] or not _minor(m):
+    if _full(m) or not _minor(m):
         return None
     r_mm = math.hypot(m.start[0] - m.center[0], m.start[1] - m.center[1])
     chord = math.hypot(m.end[0] - m.start[0], m.end[1] - m.start[1])
@@ -125,12 +134,14 @@ class _Arcs:
         self.pcx, self.pcy = m.center[0] / b, m.center[1] / b
         el = Arc.from_points((self.pcx, self.pcy), (m.start[0] / b, m.start[1] / b),
                              (m.end[0] / b, m.end[1] / b), m.cw)
+        self.full = _full(m)
+        if self.full:                   # a whole turn, whatever rounding the end has
+            el = Arc(el.c, el.r, el.a0, -2 * math.pi if m.cw else 2 * math.pi)
         self.el = el
         self.r = el.r
         self.a0, self.sweep = el.a0, el.sweep
-        self.full = m.start[:2] == m.end[:2]
         self.ps = el.start
-        self.pe = (m.end[0] / b, m.end[1] / b)
+        self.pe = el.start if self.full else (m.end[0] / b, m.end[1] / b)
         self.worst = 0.0
         # an end off the start's circle (within the arc end check's tolerance):
         # the programmed arc is LinuxCNC's spiral from the start's radius to the
