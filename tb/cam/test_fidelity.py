@@ -473,3 +473,60 @@ def test_compensated_full_circle_after_a_lead_in_arc_is_cut(side):
         noisy = replace(c, end=(c.end[0] + dx, c.end[1], c.end[2]))
         q = quantise([noisy], (blu,) * 3)
         assert sum(q.moves_per_cmd) > 5 * r
+
+
+def overtravel_program(side, entry_over, exit_over, r=3.0):
+    """A 40 mm square cut on the outside the handbook way (P. Smid's G41 example):
+    the first edge starts ``entry_over`` mm before the part's corner at the origin
+    and the last edge runs ``exit_over`` mm past it, so that the contour crosses
+    itself there instead of ending where it began.  G41 runs clockwise over
+    x in [0, 40], G42 counter-clockwise over x in [-40, 0].  Returns (text, the
+    square's corners)."""
+    s = 1 if side == "left" else -1
+    g = f"G41.1 D{2 * r:g}" if side == "left" else f"G42.1 D{2 * r:g}"
+    text = "\n".join([
+        "G21 G90 G17 F500", f"G0 X{-20 * s:g} Y-20",
+        f"{g} G1 X0 Y{-entry_over:g}",          # the entry, onto the first edge
+        "G1 Y40", f"G1 X{40 * s:g}", "G1 Y0",
+        f"G1 X{-exit_over * s:g}",                # the last edge, over the corner
+        f"G40 G1 X{(-exit_over - 10) * s:g} Y-20", "M2"])
+    return text, [(0, 0), (0, 40), (40 * s, 40), (40 * s, 0)]
+
+
+@pytest.mark.parametrize("side", ["left", "right"])
+@pytest.mark.parametrize("entry_over, exit_over", [(0, 10), (10, 0), (15, 20), (0, 0.5)])
+def test_contour_that_overruns_its_start_is_cut_all_round(side, entry_over, exit_over):
+    """A contour that crosses its own start instead of closing on it (the last edge
+    overtravels the part's corner, the first edge starts before it: P. Smid's
+    handbook example, helmancnc's G41 example): it closes where it crosses, the
+    edges' parts outside the loop are its lead-in and lead-out.  Until 2026-11-27
+    the path took the shortcut at the crossing of the entry with the last edge's
+    offset and skipped the rest of the square with a warning (exit 0).  Checked
+    by sampling: no point of the tool path nearer the square than r or inside it,
+    every point of the square's outline touched by the tool."""
+    r = 3.0
+    text, corners = overtravel_program(side, entry_over, exit_over, r)
+    prog = parse(text)
+    res = compensate(prog.moves)
+    assert res.warnings == [] and res.skipped == []
+    assert all(math.dist(a.end, b.start) < 1e-9 for a, b in zip(res.moves, res.moves[1:]))
+    edges = [Line(a, b) for a, b in zip(corners, corners[1:] + corners[:1])]
+    xs = sorted(c[0] for c in corners)
+    path = []
+    for m in res.moves:
+        if m.kind == "rapid" or m.start[:2] == m.end[:2]:
+            continue
+        el = element(m)
+        steps = max(2, math.ceil(math.dist(m.start[:2], m.end[:2]) / 0.05))
+        path += [el.point(k / steps) for k in range(steps + 1)]
+    for p in path:
+        assert min(e.distance(p) for e in edges) >= r - 1e-6
+        assert not (xs[0] < p[0] < xs[-1] and 0 < p[1] < 40)
+    outline = [e.point(k / 200) for e in edges for k in range(200)]
+    grid = {}
+    for p in path:
+        grid.setdefault((round(p[0]), round(p[1])), []).append(p)
+    for q in outline:
+        near = [p for dx in range(-4, 5) for dy in range(-4, 5)
+                for p in grid.get((round(q[0]) + dx, round(q[1]) + dy), ())]
+        assert min(math.dist(p, q) for p in near) <= r + 0.01, q

@@ -53,7 +53,7 @@ search is no longer limited to a number of blocks.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -193,6 +193,43 @@ def _loop(start_xy, xy: list[Move]):
     return None
 
 
+def _crossing(xy: list[Move]):
+    """Where a stretch that overruns its start closes: a point X where one of its
+    first LEAD_BLOCKS blocks (with XY motion) and one of its last LEAD_BLOCKS
+    meet away from their shared vertex, as (i, ti, j, tj, X) with ti, tj the
+    blocks' parameters of X; the earliest block i, then the latest j.  A
+    contour that runs on past its start corner (the handbook way: the last edge
+    overtravels the corner, or the first edge starts before it) closes there;
+    the parts of the two blocks outside the loop are its lead-in and lead-out.
+    None when no such pair meets."""
+    n = len(xy)
+    els = [_programmed_element(m) for m in xy]
+    for i in range(min(LEAD_BLOCKS, n)):
+        for j in range(n - 1, max(i, n - 1 - LEAD_BLOCKS), -1):
+            hits = []
+            for ti, tj, pt in intersect(els[i], els[j]):
+                if j == i + 1 and ti > 1 - 1e-9 and tj < 1e-9:
+                    continue                    # their shared vertex
+                hits.append((ti, -tj, pt))
+            if not hits:
+                continue
+            ti, tj, pt = min(hits)
+            tj = -tj
+            a = i + 1 if ti > 1 - 1e-9 else i   # the loop's first block ...
+            b = j - 1 if tj < 1e-9 else j       # ... and its last
+            blocks = xy[a:b + 1]
+            if b < a or not (len(blocks) >= 3 or any(m.kind == "arc" for m in blocks)):
+                continue
+            return i, ti, j, tj, pt
+    return None
+
+
+def _split(m: Move, t: float, point) -> tuple[Move, Move]:
+    """The move cut at ``point`` (its parameter t): the part before and after."""
+    x = (point[0], point[1], m.start[2] + t * (m.end[2] - m.start[2]))
+    return replace(m, end=x), replace(m, start=x)
+
+
 class _Stretch:
     """One compensated stretch: builds, cuts, keeps and follows its pieces."""
 
@@ -208,6 +245,7 @@ class _Stretch:
         self.cycle0 = 0
         self.closed = False
         self.lead_out: list[Move] = []  # moves after the closed loop, before G40
+        self.closing_from = -1          # raw index of the closing join's first piece
         self.entry_outside = True
         self.feed = entry.feed or next((m.feed for m in contour if m.feed), 0.0) or 1.0
         self.trim_entry = False
@@ -305,6 +343,22 @@ class _Stretch:
         xy = [m for m, f in zip(self.contour, moving) if f]
         start_xy = e.start[:2] if e.kind == "arc" else p0
         loop = _loop(start_xy, xy)
+        cross = _crossing(xy) if loop is None else None
+        if cross is not None:
+            # it overruns its start: the blocks that meet are cut where they do, so
+            # that the loop closes on a vertex (its lead-in and lead-out keep the rest)
+            i, ti, j, tj, pt = cross
+            cut = {}
+            if 1e-9 < ti < 1 - 1e-9:
+                cut[id(xy[i])] = _split(xy[i], ti, pt)
+            if 1e-9 < tj < 1 - 1e-9:
+                cut[id(xy[j])] = _split(xy[j], tj, pt)
+            if cut:
+                self.contour = [q for m in self.contour for q in cut.get(id(m), (m,))]
+                moving = [m.kind == "arc" or not _close(m.start, m.end, 1e-12)
+                          for m in self.contour]
+                xy = [m for m, f in zip(self.contour, moving) if f]
+            loop = _loop(start_xy, xy)
         self.closed = loop is not None
         loop_first = None
         if loop is not None:
@@ -318,11 +372,13 @@ class _Stretch:
                 self.contour = self.contour[:cut]
                 moving = moving[:cut]
             xy = xy[:b]
-        self.prog_of = {m.lineno: _programmed_element(m) for m in xy}
+        # the programmed element of each block, by the block (a block cut where the
+        # stretch overruns its start is two, with one line number)
+        self.prog_of = {id(m): _programmed_element(m) for m in xy}
         # what the tool must keep its radius from: the loop of a closed stretch (its
         # lead-in, like the entry move, and its lead-out lie in the scrap), every block
         # of an open one
-        self.protected = {m.lineno: self.prog_of[m.lineno]
+        self.protected = {id(m): self.prog_of[id(m)]
                           for m in xy[0 if loop is None else loop[0]:]}
         first_piece = None
         loop_piece = None
@@ -338,7 +394,7 @@ class _Stretch:
             el = _offset(m, self.side, r)
             if el is None:
                 pending_gap = True
-                prog_end = self.prog_of[m.lineno].end
+                prog_end = self.prog_of[id(m)].end
                 continue
             prev = self.pieces[-1]
             is_first = first_piece is None
@@ -358,7 +414,7 @@ class _Stretch:
             if is_first:
                 self.entry_outside = outside and not pending_gap
             pending_gap = False
-            prog_end = self.prog_of[m.lineno].end
+            prog_end = self.prog_of[id(m)].end
             self.pieces += extra
             z0, z1 = m.start[2], m.end[2]
             piece = Piece(el, m.lineno, CONTOUR, m.kind, m.feed or self.feed, z0, z1)
@@ -366,9 +422,9 @@ class _Stretch:
                 first_piece = piece
                 if not self.closed:
                     self.cycle0 = len(self.pieces)
-            if loop_piece is None and self.closed and m.lineno in self.protected:
+            if loop_piece is None and self.closed and id(m) in self.protected:
                 # the loop's first block with an offset: the loop closes onto it
-                loop_piece = piece
+                loop_piece, loop_move = piece, m
                 self.cycle0 = len(self.pieces)
             self.pieces.append(piece)
         if first_piece is None:
@@ -378,7 +434,7 @@ class _Stretch:
         if self.closed:
             first_piece = loop_piece
             last = self.pieces[-1]
-            m_first = next(m for m in self.contour if m.lineno == first_piece.src)
+            m_first = loop_move
             start0 = _offset(m_first, self.side, r).start
             if pending_gap:
                 extra = [Piece(Line(last.el.end, start0, first_piece.src, True), first_piece.src,
@@ -390,6 +446,7 @@ class _Stretch:
                                            gap=math.dist(prog_end, m_first.start[:2]))
             for p in extra:
                 p.z0 = p.z1 = last.z1
+            self.closing_from = len(self.pieces)    # the closing join's raw pieces
             self.pieces += extra
             for p in self.pieces[:self.cycle0]:
                 if p.role in (CONTOUR, CORNER):
@@ -541,7 +598,7 @@ class _Stretch:
         r, out = self.r, []
         far = "right" if self.left else "left"
         for m in self.contour:
-            if m.lineno not in self.prog_of:
+            if id(m) not in self.prog_of:
                 continue
             el = _offset(m, far, r)
             if el is not None:
@@ -868,9 +925,28 @@ class _Stretch:
                             ev.lineno, ev.feed))
             z = ev.end[2]
         self.stray = []
+        pieces: list[Piece] = []
+        # the loop was cut all round, to where the path joined it: past its last
+        # block's end come the closing join and, when the path joined the loop past
+        # its start, the first block's stretch up to there.  The lead-out leaves from
+        # the last block's end, as the program goes: back along that tail of the path
+        # (the same tool path, reversed), then the corner between the last block and
+        # the lead-out
+        last_raw = self.closing_from - 1
+        ends = [k for k, q in enumerate(self.chain)
+                if self.pieces[q].raw == last_raw and self.pieces[q].t1 == 1.0]
+        if ends and ends[-1] < len(self.chain) - 1:
+            for q in reversed(self.chain[ends[-1] + 1:]):
+                el = self.pieces[q].el
+                back = Line(el.p1, el.p0, el.src, True) if type(el) is Line else \
+                    Arc(el.c, el.r, el.a0 + el.sweep, -el.sweep, el.src, True)
+                pieces.append(Piece(back, self.pieces[q].src, LEAD,
+                                    "line" if type(el) is Line else "arc", self.feed, z, z))
+            last = self.pieces[self.chain[ends[-1]]].el
+            end = last.end
         # the loop's last element, as the piece the first corner joins (not trimmed)
         prev = Piece(last, last.src, CONTOUR, "line", self.feed, z, z)
-        pieces: list[Piece] = []
+        retraced = len(pieces)
         prog_end = None             # the loop closes where the lead-out starts
         for m in self.lead_out:
             if m.kind != "arc" and _close(m.start[:2], m.end[:2], 1e-12):
@@ -888,8 +964,9 @@ class _Stretch:
                                            "(concave, smaller than the tool)")
             gap = 0.0 if prog_end is None else math.dist(prog_end, m.start[:2])
             extra, el, _ = self._corner(prev, el, m.start[:2], m.lineno, m.feed or self.feed,
-                                        trim=bool(pieces), gap=gap)
-            if not pieces and math.dist((extra[0].el if extra else el).start, end) > 1e-9:
+                                        trim=len(pieces) > retraced, gap=gap)
+            if len(pieces) == retraced and \
+                    math.dist((extra[0].el if extra else el).start, end) > 1e-9:
                 # the path was joined past the loop's closing point (an entry trimmed
                 # onto the loop's first block): straight back to the lead-out, which
                 # the check tests like every piece
