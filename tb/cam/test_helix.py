@@ -3,8 +3,9 @@
 ends exactly on its programmed Z and steps Z in proportion to the arc's moves; the G18
 and G19 arcs of a public program run to their expected end on the right side of their
 centres, and the bore runs the same on the RTL engine; the planner plans a helix along its 3-D path with every axis's limits; and
-each error (plane axes with different BLUs, a helix too steep for the core, cutter
-compensation outside G17) names its line or machine-file key."""
+each error (plane axes with different BLUs, cutter compensation outside G17) names its
+line or machine-file key; a helix too steep for the core's helix mapper runs as short lines
+along it."""
 
 from __future__ import annotations
 
