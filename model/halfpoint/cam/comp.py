@@ -913,9 +913,10 @@ class _Stretch:
 
     def emit_lead_out(self, out: list[Move]) -> list[Move]:
         """The closed loop's lead-out after the loop's moves ``out``: the Z-only
-        moves left at the path's end first, then each lead-out block offset to the
-        tool's side and joined like any corner, from the point where the loop was
-        joined (role LEAD: checked with the rest against the loop)."""
+        moves left at the path's end first, then back along the path to the end of
+        the loop's last block (below), then each lead-out block offset to the tool's
+        side and joined like any corner (role LEAD: checked with the rest against
+        the loop, left out of the self-crossing check)."""
         r = self.r
         last = self.path[-1]
         z = out[-1].end[2]
