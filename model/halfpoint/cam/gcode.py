@@ -52,8 +52,9 @@ Conventions:
   ``_Parser.numbered`` / ``named``) read what the blocks before them left.
 * Arcs: the end point is checked with LinuxCNC's rule -- an error if the
   start and end radii differ by more than 0.5 mm, or by more than 0.005 mm and
-  0.1 % of the radius.  The arc is then run about the programmed centre with
-  the start radius.  ``Move.center`` is in machine coordinates, in the
+  0.1 % of the radius.  The arc then runs as LinuxCNC runs it, about the
+  programmed centre, its radius in proportion to the angle from the start's to
+  the end's (``geom.Spiral``).  ``Move.center`` is in machine coordinates, in the
   plane's axis order (X Y for G17, Z X for G18, Y Z for G19).
 * A feed rate must be set before the first G1/G2/G3 (after G93 -> G94 too).
 """
@@ -997,12 +998,22 @@ def arc_length(m: Move) -> float:
     return math.hypot(radius * abs(arc_sweep(m)), m.end[ap] - m.start[ap])
 
 
+FULL_TOL = 1e-9         # mm: an arc whose end is this close to its start is a full circle
+
+
+def full_circle(m: Move) -> bool:
+    """Is the arc a full circle: its end at its start in its plane (as G-code has it),
+    or a rounding error away (a compensated circle's end comes from its angle)?"""
+    a0, a1, _ = PLANE_AXES[m.plane]
+    return math.hypot(m.end[a0] - m.start[a0], m.end[a1] - m.start[a1]) <= FULL_TOL
+
+
 def arc_sweep(m: Move) -> float:
     """Signed swept angle of an arc ``Move`` (rad, CCW positive; a full circle 2 pi)."""
     a0, a1, _ = PLANE_AXES[m.plane]
     cx, cy = m.center
     phi0 = math.atan2(m.start[a1] - cy, m.start[a0] - cx)
-    if (m.start[a0], m.start[a1]) == (m.end[a0], m.end[a1]):
+    if full_circle(m):
         sweep = 2 * math.pi
     else:
         sweep = (math.atan2(m.end[a1] - cy, m.end[a0] - cx) - phi0) % (2 * math.pi)

@@ -80,7 +80,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from .gcode import GcodeError, Move
+from .gcode import PLANE_AXES, GcodeError, Move, arc_sweep
 from .machine import Machine, MachineError
 
 # arc acceleration budget: this share of each axis's limit for the tangential ramp,
@@ -91,9 +91,6 @@ REVERSAL_COS = 0.999999
 STRAIGHT_COS = -0.999999
 # grbl's MINIMUM_JUNCTION_SPEED (mm/s); 0 as in grbl's default
 MINIMUM_JUNCTION_SPEED = 0.0
-# arc plane -> (first axis, second axis, normal axis) of the centre's coordinates
-PLANE_AXES = {17: (0, 1, 2), 18: (2, 0, 1), 19: (1, 2, 0)}
-_TWO_PI = 2.0 * math.pi
 
 
 @dataclass(frozen=True)
@@ -234,19 +231,11 @@ def _segment(m: Move, machine: Machine) -> Segment:
     rise = m.end[ap] - m.start[ap]          # a helix: the normal axis moves with the arc
     cx, cy = m.center
     sx, sy = m.start[a0] - cx, m.start[a1] - cy
-    ex, ey = m.end[a0] - cx, m.end[a1] - cy
     radius = math.hypot(sx, sy)
     if radius == 0.0:
         raise GcodeError(m.lineno, "arc radius is zero (centre at the start point)")
     phi0 = math.atan2(sy, sx)
-    if (m.start[a0], m.start[a1]) == (m.end[a0], m.end[a1]):
-        sweep = _TWO_PI                       # a programmed full circle
-    else:
-        sweep = (math.atan2(ey, ex) - phi0) % _TWO_PI
-        if m.cw:
-            sweep = (_TWO_PI - sweep) % _TWO_PI
-    if m.cw:
-        sweep = -sweep
+    sweep = arc_sweep(m)
     flat = radius * abs(sweep)
     length = math.hypot(flat, rise)
     # along a helix the plane takes the share k of the path, the normal axis h

@@ -47,7 +47,7 @@ from ..spec import encoding as enc
 from ..spec.arc import ArcRun, lattice_point_near, validate
 from ..spec.line import line_steps
 from ..spec.rules import field_range, fits
-from .gcode import PLANE_AXES, GcodeError, Move
+from .gcode import PLANE_AXES, GcodeError, Move, full_circle
 from .geom import Arc, Spiral
 
 DEFAULT_BLU = 0.001
@@ -67,19 +67,10 @@ class Quantised:
     steep: list[int] = field(default_factory=list)            # lines of helices run as lines
 
 
-FULL_TOL = 1e-9         # mm: an arc whose end is this close to its start is a full circle
-
-
-def _full(m: Move) -> bool:
-    """Is the arc a full circle: its end at its start (as G-code has it), or a
-    rounding error away (a compensated circle's end comes from its angle)?"""
-    return math.dist(m.start[:2], m.end[:2]) <= FULL_TOL
-
-
 def _flat(m: Move):
     """Sagitta (mm) of an arc taken the short way round (at most half a
     turn), else None."""
-    if _full(m) or not _minor(m):
+    if full_circle(m) or not _minor(m):
         return None
     r_mm = math.hypot(m.start[0] - m.center[0], m.start[1] - m.center[1])
     chord = math.hypot(m.end[0] - m.start[0], m.end[1] - m.start[1])
@@ -134,7 +125,7 @@ class _Arcs:
         self.pcx, self.pcy = m.center[0] / b, m.center[1] / b
         el = Arc.from_points((self.pcx, self.pcy), (m.start[0] / b, m.start[1] / b),
                              (m.end[0] / b, m.end[1] / b), m.cw)
-        self.full = _full(m)
+        self.full = full_circle(m)
         if self.full:                   # a whole turn, whatever rounding the end has
             el = Arc(el.c, el.r, el.a0, -2 * math.pi if m.cw else 2 * math.pi)
         self.el = el

@@ -23,9 +23,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, replace
 
-from .gcode import (Coolant, Dwell, GcodeError, Move, Pause, Spindle, ToolChange, arc_length,
-                    arc_sweep)
-from .planner import PLANE_AXES
+from .gcode import (PLANE_AXES, Coolant, Dwell, GcodeError, Move, Pause, Spindle, ToolChange,
+                    arc_length, arc_sweep)
 from .planner import Dwell as PlannerDwell
 from .planner import estimate_time, plan
 
