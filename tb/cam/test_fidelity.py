@@ -306,7 +306,7 @@ def lead_square_program(side, r, lead_in, lead_out, h=10.0, lead=6.0):
     below it, as CAM writes them with compensation on: ``lead_in`` / ``lead_out``
     is "", "arc" or "line+arc" / "arc+line".  Returns (text, loop lines, lead lines)."""
     s = -1 if side == "left" else 1          # the direction along the bottom edge
-    g_in, g_out = ("G3", "G3") if side == "left" else ("G2", "G2")
+    g_arc = "G3" if side == "left" else "G2"     # both lead arcs
     lines = ["G21 G90 G17 G91.1 F600", f"G0 X{-s * lead:.4f} Y{-h - lead - 12:.4f}"]
     g = f"G41.1 D{2 * r:.4f}" if side == "left" else f"G42.1 D{2 * r:.4f}"
     x0 = -s * lead                           # the lead-in arc's start, below the edge
@@ -319,13 +319,13 @@ def lead_square_program(side, r, lead_in, lead_out, h=10.0, lead=6.0):
             lines.append(f"Y{-h - lead:.4f}")
         else:
             lines.append(f"{g} G1 X{x0:.4f} Y{-h - lead:.4f}")
-        lines.append(f"{g_in} X0 Y{-h:.4f} I{s * lead:.4f} J0")
+        lines.append(f"{g_arc} X0 Y{-h:.4f} I{s * lead:.4f} J0")
     n0 = len(lines) + 1
     pts = [(s * h, -h), (s * h, h), (-s * h, h), (-s * h, -h), (0, -h)]
     lines += [f"G1 X{x:.4f} Y{y:.4f}" for x, y in pts]
     loop = set(range(n0, n0 + len(pts)))
     if lead_out:
-        lines.append(f"{g_out} X{s * lead:.4f} Y{-h - lead:.4f} I0 J{-lead:.4f}")
+        lines.append(f"{g_arc} X{s * lead:.4f} Y{-h - lead:.4f} I0 J{-lead:.4f}")
         if lead_out == "arc+line":
             lines.append(f"G1 Y{-h - lead - 5:.4f}")
         lines.append(f"G40 G1 X{s * lead:.4f} Y{-h - lead - 12:.4f}")

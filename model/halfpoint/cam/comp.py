@@ -17,30 +17,38 @@ first move after G40 is the exit move.  For each stretch:
    joined by a straight connector through the tool's forbidden zone.  A
    contour that ends where it began (a closed contour, entered anywhere) gets
    the same join between its last and first block: its closing point is a
-   join, not a crossing.  Z-only moves keep their place between blocks; lines
-   that move Z carry Z along their offset.
+   join, not a crossing.  So does a closed loop with up to LEAD_BLOCKS blocks
+   before it (a lead-in) and after it (a lead-out), CAM's lead arcs (``_loop``),
+   and a contour that crosses its start instead of ending on it (an edge that
+   overtravels the part's corner), cut where it crosses (``_crossing``).  Z-only
+   moves keep their place between blocks; lines that move Z carry Z along their
+   offset.
 2. Interference as far as the tool reaches.  Every element of the raw path
    is split where any other element crosses it; the pairs are found through
    a uniform grid over the elements' boxes (``spatial.box_pairs``), so the
    search reaches every element within the tool's reach, however many blocks
    lie between.
 3. Distance test.  A piece is kept only if its midpoint is at least
-   ``r - 1e-7`` mm from every programmed block of the contour (connectors
-   never are).  The entry move is exempt, except for the stretch behind its
+   ``r - 1e-7`` mm from every protected programmed block (connectors never
+   are): the loop's of a closed stretch (its lead moves lie in the scrap),
+   every block of an open one.  The entry move is exempt, except for the stretch behind its
    last crossing with the contour's offset when it meets the contour at an
    inside corner (LinuxCNC trims it there).
 4. The path is followed from the entry through the kept pieces in program
    order; where a piece ends at a crossing and the next piece was removed,
    the path continues on the kept piece that leaves the crossing (the one
    furthest on where the path touches itself).  A closed contour is followed
-   round until the point where the path joined it.  A kept stretch that
+   round until the point where the path joined it; its lead-out then goes
+   back along the path to the loop's last block and leaves from there
+   (``emit_lead_out``).  A kept stretch that
    the path cannot reach (the tool would have to pass a gap narrower than
    itself) is an error naming its lines.
 5. Programmed blocks the path no longer visits are reported (a warning
    naming the lines; with ``strict`` an error naming the first one).
 6. The independent check (``check.gouges``, ``check.self_crossings``) runs
    on the result: no point of the tool path between the entry and exit moves
-   closer than ``r - 1e-6`` mm to the programmed contour, no self-crossing;
+   closer than ``r - 1e-6`` mm to the protected blocks, no self-crossing
+   (the lead moves, which end and start where the loop is joined, left out);
    a violation is an error naming the programmed lines.
 
 The exit move runs from the last point of the compensated path to its
@@ -148,7 +156,7 @@ def _programmed_element(m: Move):
     return Line(m.start[:2], m.end[:2], m.lineno)
 
 
-def _line_ranges(lines: list[int], most: int = 8) -> str:
+def line_ranges(lines: list[int], most: int = 8) -> str:
     """'line 5' / 'lines 5, 6, 7' / 'lines 5-9, 12, ... (40 lines)'."""
     lines = sorted(set(lines))
     if len(lines) == 1:
@@ -166,6 +174,13 @@ def _line_ranges(lines: list[int], most: int = 8) -> str:
     return "lines " + ", ".join(parts) + more
 
 
+def _encloses(blocks: list[Move]) -> bool:
+    """Can these blocks, ending where they start, be a loop round a part: a full
+    circle, two blocks with an arc, or three or more (a line out and back
+    encloses nothing)?"""
+    return len(blocks) >= 3 or any(m.kind == "arc" for m in blocks)
+
+
 def _loop(start_xy, xy: list[Move]):
     """The closed loop of a stretch, as (a, b): its blocks ``xy[a:b]`` (the
     blocks with XY motion, after the entry move; an arc entry counts as the
@@ -174,9 +189,8 @@ def _loop(start_xy, xy: list[Move]):
     LEAD_BLOCKS blocks before it, a lead-in, and up to LEAD_BLOCKS after it, a
     lead-out (CAM's tangent lead-in and lead-out arcs and lines, programmed
     with compensation on: LinuxCNC's handbook calls them entry moves); the
-    shortest lead-in and then the shortest lead-out are taken.  A loop of one
-    block is a full circle; of two, it has an arc (a line out and back
-    encloses nothing).  None for an open stretch."""
+    shortest lead-in and then the shortest lead-out are taken (the loop as
+    ``_encloses`` has it).  None for an open stretch."""
     n = len(xy)
     if n == 0:
         return None
@@ -187,8 +201,7 @@ def _loop(start_xy, xy: list[Move]):
         for b in range(n, a, -1):
             if n - b > LEAD_BLOCKS:
                 break
-            if _close(verts[b], verts[a], 1e-6) and \
-                    (b - a >= 3 or any(m.kind == "arc" for m in xy[a:b])):
+            if _close(verts[b], verts[a], 1e-6) and _encloses(xy[a:b]):
                 return a, b
     return None
 
@@ -217,8 +230,7 @@ def _crossing(xy: list[Move]):
             tj = -tj
             a = i + 1 if ti > 1 - 1e-9 else i   # the loop's first block ...
             b = j - 1 if tj < 1e-9 else j       # ... and its last
-            blocks = xy[a:b + 1]
-            if b < a or not (len(blocks) >= 3 or any(m.kind == "arc" for m in blocks)):
+            if b < a or not _encloses(xy[a:b + 1]):
                 continue
             return i, ti, j, tj, pt
     return None
@@ -851,7 +863,7 @@ class _Stretch:
         lost = sorted(s for s, v in lost.items() if v > REACH_TOL)
         if lost:
             raise GcodeError(lost[0], f"the tool (radius {self.r:g} mm) cannot reach "
-                                      f"{_line_ranges(lost)} without gouging: the way there is "
+                                      f"{line_ranges(lost)} without gouging: the way there is "
                                       "narrower than the tool")
 
     def emit(self):
@@ -1062,11 +1074,11 @@ def _checked(st, out, programmed, prog_arr, r, tol, strict):
             worst = min(bad, key=lambda b: b[2])
             lines = sorted({programmed[b[1]].src for b in bad} | {path[b[0]].src for b in bad})
             return GcodeError(lines[0], f"the compensated path comes {r - worst[2]:.3g} mm too "
-                                        f"close to the contour near {_line_ranges(lines)} "
+                                        f"close to the contour near {line_ranges(lines)} "
                                         f"(tool radius {r:g} mm)")
         lines = sorted({path[i].src for i, _ in crossings} | {path[j].src for _, j in crossings})
         return GcodeError(lines[0], f"the compensated path crosses itself near "
-                                    f"{_line_ranges(lines)}")
+                                    f"{line_ranges(lines)}")
 
     if strict:
         raise error()
@@ -1100,7 +1112,7 @@ def _checked(st, out, programmed, prog_arr, r, tol, strict):
                             (p1[0], p1[1], ev.end[2]), ev.lineno, ev.feed or st.feed))
             z = ev.end[2]
     what = "too close to the contour" if bad else "crossing itself"
-    note = (f"{_line_ranges(lines)}: path removed (it came {what}) and bridged by a straight "
+    note = (f"{line_ranges(lines)}: path removed (it came {what}) and bridged by a straight "
             f"move that the tool (radius {r:g} mm) can follow")
     return out[:i0] + mid + out[i1:], note
 
@@ -1175,7 +1187,7 @@ def compensate(moves: list[Move], window: int = 5, strict: bool = False) -> Comp
             if strict:
                 raise GcodeError(skipped[0], f"the tool (radius {r:g} mm) cannot follow "
                                              "the contour here")
-            warnings.append(f"{_line_ranges(skipped)}: skipped, the tool (radius {r:g} mm) "
+            warnings.append(f"{line_ranges(skipped)}: skipped, the tool (radius {r:g} mm) "
                             "cannot follow the contour there")
             skipped_all += skipped
         result += out

@@ -25,11 +25,11 @@ from pathlib import Path
 
 from ..spec import encoding as enc
 from ..spec import profile as pf
-from .comp import _line_ranges, compensate, to_gcode
+from .comp import compensate, line_ranges, to_gcode
 from .gcode import Coolant, Spindle
 from .gcode import Dwell as GcodeDwell
 from .gcode import PLANE_AXES, Move, load_tool_table, parse
-from .geom import Arc, Line, Spiral
+from .geom import Line, Spiral
 from .machine import Machine, check_program, load_default
 from .motion import Execution, MotionPlan, build_motion, core_config, max_clocks_for, run_model
 from .planner import Dwell, OutputChange, Segment, estimate_time
@@ -189,13 +189,10 @@ def _element(m: Move):
     plane (G17 X Y, G18 Z X, G19 Y Z), a line in XY."""
     if m.kind == "arc":
         a0, a1, _ = PLANE_AXES[m.plane]
-        s, e = (m.start[a0], m.start[a1]), (m.end[a0], m.end[a1])
-        arc = Arc.from_points(m.center, s, e, m.cw)
-        sp = Spiral.from_points(m.center, s, e, m.cw)
-        # an end off the start's circle: LinuxCNC's spiral, as the quantiser follows it
-        if s != e and abs(sp.r1 - sp.r0) > 1e-9 * max(1.0, sp.r0):
-            return sp, (a0, a1)
-        return arc, (a0, a1)
+        # as it runs (and the quantiser measures it): LinuxCNC's spiral, the circular
+        # arc when its end is on the start's circle
+        return (Spiral.from_points(m.center, (m.start[a0], m.start[a1]),
+                                   (m.end[a0], m.end[a1]), m.cw), (a0, a1))
     return Line(m.start[:2], m.end[:2]), (0, 1)
 
 
@@ -238,7 +235,7 @@ def run_program(path: str, execute=None, radius=None, tools_path=None, strict=Fa
         k += n
     notes = tuple(prog.notes)
     if q.steep:
-        notes += (f"{_line_ranges(sorted(q.steep))}: helix steeper than the core's helix "
+        notes += (f"{line_ranges(sorted(q.steep))}: helix steeper than the core's helix "
                   "mapper steps (one step of the normal axis per arc move): run as short "
                   "lines along the arc",)
     return RunResult(prog.moves, comp.moves, comp.warnings, trace, dev, tuple(blu),
