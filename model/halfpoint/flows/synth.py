@@ -23,7 +23,6 @@ import argparse
 import concurrent.futures as cf
 import json
 import re
-import shutil
 import statistics
 import subprocess
 import sys
@@ -32,7 +31,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..spec.profile import choose_div
-from ..sim.env import BUILD, REPO, warm_yowasp
+from ..sim.env import BUILD, REPO, tool_exe
 
 OUT = BUILD / "synth"
 
@@ -127,14 +126,10 @@ BOARDS = [
 def tool(name: str) -> str:
     """The executable of a tool, its compiled module cached first when it is a yowasp
     one (``warm_yowasp``: the flow runs several at once)."""
-    exe = Path(sys.executable).parent / name
-    if not exe.exists():
-        found = shutil.which(name)
-        if not found:
-            raise SystemExit(f"{name} not found: it is a pinned dependency (requirements.txt); "
-                             "run make setup")
-        exe = Path(found)
-    warm_yowasp(exe)
+    exe = tool_exe(name)
+    if exe is None:
+        raise SystemExit(f"{name} not found: it is a pinned dependency (requirements.txt); "
+                         "run make setup")
     return str(exe)
 
 

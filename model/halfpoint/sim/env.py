@@ -126,6 +126,19 @@ def warm_yowasp(exe: str | Path) -> None:
     _WARM.add(str(exe))
 
 
+def tool_exe(name: str) -> Path | None:
+    """A pinned tool's executable: the venv's (this interpreter's bin/), else the one on
+    PATH; a yowasp one warmed first (``warm_yowasp``).  None when there is none."""
+    exe = Path(sys.executable).parent / name
+    if not exe.exists():
+        found = shutil.which(name)
+        if not found:
+            return None
+        exe = Path(found)
+    warm_yowasp(exe)
+    return exe
+
+
 SIMULATORS = ("verilator", "icarus")
 SIM_ENV = "HALFPOINT_SIM"
 
