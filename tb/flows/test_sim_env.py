@@ -5,8 +5,8 @@ yowasp tools' compiled modules cached one process at a time."""
 from __future__ import annotations
 
 import os
-import sys
 import subprocess
+import sys
 from pathlib import Path
 
 from halfpoint.sim import env
