@@ -799,6 +799,9 @@ module halfpoint_arc #(
     //              k clocks against the shift-and-add partial sums of the
     //              command's magnitudes (linear: no product in the induction),
     //              and the sums taken against those after W clocks;
+    //   squarer    (F_SQUARER with F_SQUARER_LINK or F_SQUARER_GHOST) the
+    //              same cut at ghost accumulators so that the registers'
+    //              part closes at any width (the block below);
     //   squares    (F_SQUARE_LEMMA) the partial sums after W clocks are the
     //              sums of squares: with the two above, the codes hold
     //              against xs^2 + ys^2 and xe^2 + ye^2;
@@ -1048,6 +1051,84 @@ module halfpoint_arc #(
                 end
         end
     endgenerate
+`endif
+`ifdef F_SQUARER
+    // ---- the squarer at any width (F_SQUARER, the tasks squarer_w* and
+    // sqghost_w*) ----
+    // F_SQUARING's invariants hold the registers against the partial sums
+    // themselves, k rows of a multiplier at count k: at W = 10 its
+    // induction had not finished in 10 minutes.  Here the proof is cut in two
+    // at ghost accumulators, one per register, that add the rows as the
+    // squarer does, a_k (a << k) + b_k (b << k) at count k, in the same order:
+    // (1, F_SQUARER_LINK) the registers against the ghosts, one invariant per
+    // count, no product and no row sum, which closes at W = 32; (2,
+    // F_SQUARER_GHOST) each ghost against f_squares(a, b, k), the sum of its
+    // first k rows, where the sum for k + 1 is the one for k plus a row; and
+    // F_SQUARE_LEMMA: f_squares(a, b, W) = a^2 + b^2.  (2) and the lemma read
+    // the ghosts and the count only, no register of the datapath.
+    reg  [F_PW-1:0] f_gr2, f_ge2;
+    wire [5:0]      f_sk = square_count_q;
+    wire [F_PW-1:0] f_row_xs = f_axs[f_sk] ? (f_axs << f_sk) : {F_PW{1'b0}};
+    wire [F_PW-1:0] f_row_ys = f_ays[f_sk] ? (f_ays << f_sk) : {F_PW{1'b0}};
+    wire [F_PW-1:0] f_row_xe = f_axe[f_sk] ? (f_axe << f_sk) : {F_PW{1'b0}};
+    wire [F_PW-1:0] f_row_ye = f_aye[f_sk] ? (f_aye << f_sk) : {F_PW{1'b0}};
+    always @(posedge clk)
+        if (accept) begin
+            f_gr2 <= {F_PW{1'b0}};
+            f_ge2 <= {F_PW{1'b0}};
+        end else if (squaring) begin
+            f_gr2 <= f_gr2 + f_row_xs + f_row_ys;
+            f_ge2 <= f_ge2 + f_row_xe + f_row_ye;
+        end
+    wire f_sq_live = f_past_valid && !rst && f_slot_valid;
+`ifdef F_SQUARER_LINK
+    // (1) at count k the register is {partial sum, |x| >> k}: the sum's low
+    // k bits have entered the register's low half from the top as |x|
+    // shifted out of its bottom; the sum is below 2^(W+k+1) (a (a mod 2^k)
+    // < 2^W 2^k for each square), so it fits the register's 2W + 1 bits.
+    // One invariant per count, with shifts by constants (tried first with a
+    // ghost per square, so that the solver had to reassociate the adds: with
+    // the count as the shift amount, unfinished at W = 16 after 15 minutes;
+    // per count, after 7)
+    genvar f_lk;
+    generate
+        for (f_lk = 0; f_lk < W; f_lk = f_lk + 1) begin : g_f_link
+            localparam [F_PW-1:0] F_BOUND = {{(F_PW-1){1'b0}}, 1'b1} << (W + f_lk + 1);
+            always @(*)
+                if (f_sq_live && squaring && square_count_q == f_lk)
+                    assert({3'b000, radius_square_q} == (f_axs >> f_lk) + (f_gr2 << (W - f_lk))
+                           && {3'b000, end_square_q} == (f_axe >> f_lk) + (f_ge2 << (W - f_lk))
+                           && multiplier_ys_q == (abs_ys_q >> f_lk)
+                           && multiplier_ye_q == (abs_ye_q >> f_lk)
+                           && f_gr2 < F_BOUND && f_ge2 < F_BOUND);
+        end
+    endgenerate
+    always @(*)
+        if (f_sq_live) begin
+            if (validator_state_q == STATE_SUM) begin
+                sq_sum: assert({3'b000, radius_square_q} == f_gr2
+                               && {3'b000, end_square_q} == f_ge2);
+            end
+            if (f_summed) begin
+                sq_taken: assert({3'b000, f_sum_r2_q} == f_gr2 && {3'b000, f_sum_e2_q} == f_ge2);
+            end
+        end
+`endif
+`ifdef F_SQUARER_GHOST
+    // (2) each ghost is its partial sum: at count k the rows i < k, from SUM
+    // on all W rows (the ghosts add nothing after the last squaring clock)
+    genvar f_gk;
+    generate
+        for (f_gk = 0; f_gk <= W; f_gk = f_gk + 1) begin : g_f_ghost
+            wire f_at = (f_gk == W) ? (validator_state_q > STATE_SQUARE)
+                                    : (squaring && square_count_q == f_gk);
+            always @(*)
+                if (f_sq_live && f_at)
+                    assert(f_gr2 == f_squares(f_axs, f_ays, f_gk)
+                           && f_ge2 == f_squares(f_axe, f_aye, f_gk));
+        end
+    endgenerate
+`endif
 `endif
     // the start and end frames, as the README defines them
     wire [1:0]   f_start_quad = quadrant_of(f_slot_cw, f_slot_xs, f_slot_ys);

@@ -6,7 +6,8 @@ do a line unit that takes a command while it holds one (one is lost), a
 profile stage whose speed rises by twice its acceleration, a core that
 takes a beat while its queue is full and an arc unit that gives an end off
 the circle the wrong reject code; a profile stage that pops at rest under
-hold breaks the core's composed proof.
+hold breaks the core's composed proof, and an arc squarer that adds a wrong
+row breaks its link to the ghost rows at W = 8 and at W = 32.
 The full set (all tasks, every mutant) is `make formal`."""
 
 from __future__ import annotations
@@ -220,3 +221,25 @@ def test_assertion_label_through_a_macro():
     for label in ("arc_handed", "arc_reject_unvalidated", "i_arc_in_flight"):
         line = next(k for k, text in enumerate(lines, 1) if f"{label}:" in text)
         assert formal.assertion_label(src, line) == label
+
+
+def test_arc_squarer_link_breaks_at_every_width(tmp_path):
+    """The squarer's link to the ghost rows (squarer_w*, in make test at W = 8 and
+    16, at W = 32 in make formal) cannot close on a squarer that adds |xs| where
+    |ys| is due, at W = 8 nor at the core's W = 32: it fails on the link's own
+    assertions (sq_sum, or the per-count invariant of g_f_link)."""
+    tasks = formal.sby_tasks(formal.FORMAL / "halfpoint_arc.sby")
+    assert "quick" in tasks["squarer_w8"] and "quick" in tasks["squarer_w16"]
+    assert "wide" in tasks["squarer_w32"]
+    rtl = (REPO / "rtl" / "halfpoint_arc.v").read_text().splitlines()
+    link = [i + 1 for i, line in enumerate(rtl)
+            if "assert({3'b000, radius_square_q} == (f_axs >> f_lk)" in line]
+    assert len(link) == 1
+    m = next(m for m in formal.MUTANTS if m.name == "arc_square_wrong_row")
+    assert m.expect == "NOPROOF" and m.tasks == ("squarer_w8", "squarer_w32")
+    results = formal.run_mutant(m, tmp_path / "mut")
+    assert len(results) == 2
+    for r in results:
+        assert r.status in ("FAIL", "UNKNOWN") and r.ok, r
+        assert r.failed and all(f.startswith("sq_") or f.endswith(f"halfpoint_arc.v:{link[0]}")
+                                or f"halfpoint_arc.v:{link[0]}" in f for f in r.failed), r.failed

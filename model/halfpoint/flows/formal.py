@@ -227,9 +227,16 @@ MUTANTS = [
            "first step (the pending flags v > ve, v = ve, v + 1 = ve wrong)"),
     Mutant("arc_square_wrong_bit", "halfpoint_arc", "rtl/halfpoint_arc.v",
            "(p[0] ? {2'b00, a} : {(W+2){1'b0}})", "(p[1] ? {2'b00, a} : {(W+2){1'b0}})",
-           ("squaring_k1_w8",),
+           ("squaring_k1_w8", "squarer_w16"),
            "the squarer adds |xs| for the multiplicand's next bit instead of its current one "
            "(R^2 no longer xs^2 + ys^2; its induction step fails, the base case is reset)",
+           "NOPROOF"),
+    Mutant("arc_square_wrong_row", "halfpoint_arc", "rtl/halfpoint_arc.v",
+           "+ (b_bit ? {2'b00, b} : {(W+2){1'b0}});",
+           "+ (b_bit ? {2'b00, a} : {(W+2){1'b0}});",
+           ("squarer_w8", "squarer_w32"),
+           "the squarer adds |xs| where |ys| is due (R^2 = xs^2 + xs ys): the link to the "
+           "ghost rows must not close at any width, W = 32 included",
            "NOPROOF"),
     Mutant("arc_check_off_by_one", "halfpoint_arc", "rtl/halfpoint_arc.v",
            "(second[CHECK_W-2:0] & third[CHECK_W-2:0])), 1'b1};",
