@@ -5,9 +5,12 @@ command that reproduces it (so the checker can fail)."""
 
 import dataclasses
 import io
+import multiprocessing
+import shutil
 
 import pytest
 
+from halfpoint.flows import simspeed
 from halfpoint.flows.soak import main, make_batch, report, soak
 from halfpoint.flows.simspeed import (
     check_intervals, harness_binary, model_run, run_harness, write_vectors,
@@ -112,3 +115,35 @@ def test_parts_cover_the_whole_run(passed, capsys):
     with pytest.raises(SystemExit):
         main(["--segments", "240", "--batches", "2-4", "--build", BUILD])
     assert "expected FIRST:END" in capsys.readouterr().err
+
+
+def _build_harness(name, results):
+    try:
+        results.put(str(harness_binary(3, name)[0]))
+    except Exception as exc:            # the parent reports it
+        results.put(f"error: {exc}")
+
+
+def test_concurrent_builds_wait_for_each_other(monkeypatch, tmp_path):
+    """Two processes that ask for the same harness while it is not built (pytest-xdist
+    workers do) both get a working one: the second waits for the first's build under
+    its lock instead of deleting the build directory under it."""
+    name = "concurrent-test"
+    monkeypatch.setitem(simspeed.HARNESS_BUILDS, name, simspeed.HARNESS_BUILDS[BUILD])
+    shutil.rmtree(simspeed.BUILD / "harness" / f"na3_{name}", ignore_errors=True)
+    ctx = multiprocessing.get_context("fork")     # the children see the new build name
+    results = ctx.Queue()
+    procs = [ctx.Process(target=_build_harness, args=(name, results)) for _ in range(2)]
+    for p in procs:
+        p.start()
+    got = [results.get(timeout=900) for _ in procs]
+    for p in procs:
+        p.join()
+    assert not any(g.startswith("error") for g in got), got
+    assert got[0] == got[1]
+    batch, _ = make_batch(SEED, 1, 3, 20)
+    path = tmp_path / "one.vec"
+    write_vectors(path, 3, [(0, batch, model_run(batch))])
+    res = run_harness(simspeed.Path(got[0]), path)
+    assert res.ok, res.failure
+    shutil.rmtree(simspeed.BUILD / "harness" / f"na3_{name}", ignore_errors=True)

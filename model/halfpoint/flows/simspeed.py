@@ -19,6 +19,7 @@ bench reports ``DEFAULT_BUILD``, the fastest measured).
 
 from __future__ import annotations
 
+import fcntl
 import hashlib
 import random
 import shutil
@@ -212,10 +213,25 @@ def harness_binary(axes: int = 3, build: str = DEFAULT_BUILD) -> tuple[Path, flo
         key.update(p.read_bytes())
     key.update(repr((axes, vopts, cflags, pgo, TRAIN_SEED)).encode())
     work = BUILD / "harness" / f"na{axes}_{build}"
+    # one build at a time per harness: pytest-xdist workers (make test) and the soak's
+    # processes may ask for the same one at once, and a second build deletes the first's
+    # work directory under it
+    work.parent.mkdir(parents=True, exist_ok=True)
+    with open(work.parent / f"na{axes}_{build}.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        try:
+            return _harness_build(work, axes, build, key.hexdigest())
+        finally:
+            fcntl.flock(lock, fcntl.LOCK_UN)
+
+
+def _harness_build(work: Path, axes: int, build: str, digest: str) -> tuple[Path, float]:
+    """harness_binary's build, under its lock."""
+    vopts, cflags, pgo = HARNESS_BUILDS[build]
     obj = work / "obj"
     binary = obj / "Vhalfpoint_core"
     stamp = work / "stamp"
-    if binary.exists() and stamp.exists() and stamp.read_text() == key.hexdigest():
+    if binary.exists() and stamp.exists() and stamp.read_text() == digest:
         return binary, 0.0
     if work.exists():
         shutil.rmtree(work)
@@ -237,7 +253,7 @@ def harness_binary(axes: int = 3, build: str = DEFAULT_BUILD) -> tuple[Path, flo
                   f"{cflags} -fprofile-use -fprofile-correction -Wno-missing-profile")
     else:
         _verilate(work, axes, vopts, cflags)
-    stamp.write_text(key.hexdigest())
+    stamp.write_text(digest)
     return binary, time.monotonic() - t0
 
 
