@@ -41,6 +41,13 @@ def test_quick_tasks_are_tagged():
     assert {name for _, _, name in proofs} >= {"halfpoint_stepgen:stable_tw4",
                                                "halfpoint_stepgen:live_tw4"}
     assert mutants == []
+    # a design named with --quick: its quick tasks only; a task named: that task
+    proofs, _ = formal.plan(True, ["halfpoint_stepgen", "halfpoint_arc:squarer_w32"])
+    names = {name for _, _, name in proofs}
+    assert "halfpoint_arc:squarer_w32" in names
+    assert {n for n in names if n.startswith("halfpoint_stepgen:")} == \
+        {f"halfpoint_stepgen:{t}" for t in quick}
+    assert len(formal.plan(False, ["halfpoint_stepgen"])[0]) == len(tasks)
     # a mutants-only task (a bounded check the real design is proven by another
     # task) is not planned as a proof, but the mutants that name it run it
     assert "mutants_only" in formal.sby_tasks(formal.FORMAL / "halfpoint_core.sby")["steps_na2"]

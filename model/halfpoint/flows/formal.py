@@ -519,7 +519,11 @@ def selected(names, design, task, quick, tags) -> bool:
     if "mutants_only" in tags:
         return False
     if names:
-        return any(n in (design, task, f"{design}:{task}") for n in names)
+        # a task named runs; a design named runs its tasks, only the quick ones
+        # with --quick
+        if any(n in (task, f"{design}:{task}") for n in names):
+            return True
+        return design in names and (not quick or "quick" in tags)
     return "quick" in tags if quick else True
 
 
