@@ -47,21 +47,15 @@ void Vhalfpoint_core___024root___eval(Vhalfpoint_core___024root* vlSelf);
 bool Vhalfpoint_core___024root___eval_phase__act(Vhalfpoint_core___024root* vlSelf);
 bool Vhalfpoint_core___024root___eval_phase__nba(Vhalfpoint_core___024root* vlSelf);
 
-// The core's inputs other than clk, as the last evaluation saw them.
+// The core's inputs other than clk, listed once.
+#define HP_INPUTS(X)                                                                       \
+    X(rst) X(s_axis_tvalid) X(s_axis_tdata) X(cfg_steplen) X(cfg_stepspace) X(cfg_dirsetup) \
+    X(cfg_dirhold) X(cfg_step_inv) X(cfg_dir_inv) X(feed_override) X(hold) X(stop) X(abort_now)
+// ... as the last evaluation saw them
 struct Inputs {
-    std::remove_reference_t<decltype(Vhalfpoint_core::rst)> rst;
-    std::remove_reference_t<decltype(Vhalfpoint_core::s_axis_tvalid)> s_axis_tvalid;
-    std::remove_reference_t<decltype(Vhalfpoint_core::s_axis_tdata)> s_axis_tdata;
-    std::remove_reference_t<decltype(Vhalfpoint_core::cfg_steplen)> cfg_steplen;
-    std::remove_reference_t<decltype(Vhalfpoint_core::cfg_stepspace)> cfg_stepspace;
-    std::remove_reference_t<decltype(Vhalfpoint_core::cfg_dirsetup)> cfg_dirsetup;
-    std::remove_reference_t<decltype(Vhalfpoint_core::cfg_dirhold)> cfg_dirhold;
-    std::remove_reference_t<decltype(Vhalfpoint_core::cfg_step_inv)> cfg_step_inv;
-    std::remove_reference_t<decltype(Vhalfpoint_core::cfg_dir_inv)> cfg_dir_inv;
-    std::remove_reference_t<decltype(Vhalfpoint_core::feed_override)> feed_override;
-    std::remove_reference_t<decltype(Vhalfpoint_core::hold)> hold;
-    std::remove_reference_t<decltype(Vhalfpoint_core::stop)> stop;
-    std::remove_reference_t<decltype(Vhalfpoint_core::abort_now)> abort_now;
+#define HP_FIELD(name) std::remove_reference_t<decltype(Vhalfpoint_core::name)> name;
+    HP_INPUTS(HP_FIELD)
+#undef HP_FIELD
 };
 template <typename T>
 static inline bool same_then_copy(T& seen, const T& now) {
@@ -80,19 +74,9 @@ static inline bool same_then_copy(VlWide<N>& seen, const VlWide<N>& now) {
 // true when no input changed since the last call (and records them)
 static inline bool inputs_unchanged(Inputs& seen, const Vhalfpoint_core& top) {
     bool same = true;
-    same &= same_then_copy(seen.rst, top.rst);
-    same &= same_then_copy(seen.s_axis_tvalid, top.s_axis_tvalid);
-    same &= same_then_copy(seen.s_axis_tdata, top.s_axis_tdata);
-    same &= same_then_copy(seen.cfg_steplen, top.cfg_steplen);
-    same &= same_then_copy(seen.cfg_stepspace, top.cfg_stepspace);
-    same &= same_then_copy(seen.cfg_dirsetup, top.cfg_dirsetup);
-    same &= same_then_copy(seen.cfg_dirhold, top.cfg_dirhold);
-    same &= same_then_copy(seen.cfg_step_inv, top.cfg_step_inv);
-    same &= same_then_copy(seen.cfg_dir_inv, top.cfg_dir_inv);
-    same &= same_then_copy(seen.feed_override, top.feed_override);
-    same &= same_then_copy(seen.hold, top.hold);
-    same &= same_then_copy(seen.stop, top.stop);
-    same &= same_then_copy(seen.abort_now, top.abort_now);
+#define HP_SAME(name) same &= same_then_copy(seen.name, top.name);
+    HP_INPUTS(HP_SAME)
+#undef HP_SAME
     return same;
 }
 #endif
