@@ -7,6 +7,7 @@ import dataclasses
 import io
 import multiprocessing
 import shutil
+from pathlib import Path
 
 import pytest
 
@@ -144,6 +145,6 @@ def test_concurrent_builds_wait_for_each_other(monkeypatch, tmp_path):
     batch, _ = make_batch(SEED, 1, 3, 20)
     path = tmp_path / "one.vec"
     write_vectors(path, 3, [(0, batch, model_run(batch))])
-    res = run_harness(simspeed.Path(got[0]), path)
+    res = run_harness(Path(got[0]), path)
     assert res.ok, res.failure
     shutil.rmtree(simspeed.BUILD / "harness" / f"na3_{name}", ignore_errors=True)

@@ -139,12 +139,11 @@ class _Arcs:
         # end's (geom.Spiral), which every piece follows and is measured against
         sp = Spiral(el.c, el.r, math.hypot(self.pe[0] - self.pcx, self.pe[1] - self.pcy),
                     el.a0, el.sweep)
-        self.dr = 0.0 if self.full or abs(sp.r1 - sp.r0) < 1e-9 else sp.r1 - sp.r0
-        self.sp = sp if self.dr else None
+        self.sp = None if self.full or abs(sp.r1 - sp.r0) < 1e-9 else sp
 
     def radius(self, t: float) -> float:
         """The programmed radius at the fraction t of the sweep."""
-        return self.r + self.dr * t
+        return self.r if self.sp is None else self.sp.radius(t)
 
     def dist(self, x: float, y: float) -> float:
         """Distance (BLU) of a lattice point from the programmed arc: radial
