@@ -114,6 +114,58 @@ def test_coarse_lattice_and_tiny_arcs():
     assert worst <= BOUND + 1e-9, worst
 
 
+def flat_arcs(n, seed, blu=0.001):
+    """n arcs whose sagitta is under a quarter BLU (run as their chords), each
+    from a rapid to a random point off the lattice: radii of 10 mm to 1 m,
+    chords of 20 to 400 BLU at any angle, each from a few BLU off the last."""
+    rng = random.Random(seed)
+    lines = ["G21 G90 G17 F600"]
+    ex = ey = 0.0
+    for _ in range(n):
+        sx, sy = ex + rng.uniform(-3, 3) * blu, ey + rng.uniform(-3, 3) * blu
+        radius = 10 ** rng.uniform(1, 3)
+        chord = rng.uniform(20, 400) * blu
+        sag = radius - math.sqrt(radius * radius - chord * chord / 4)
+        if sag >= 0.25 * blu:
+            chord = 2 * math.sqrt(radius * radius - (radius - 0.24 * blu) ** 2)
+        angle = rng.uniform(0, 2 * math.pi)
+        ex, ey = sx + chord * math.cos(angle), sy + chord * math.sin(angle)
+        # the centre on the chord's perpendicular bisector, either side
+        side = rng.choice((1, -1))
+        h = math.sqrt(radius * radius - chord * chord / 4)
+        cx = (sx + ex) / 2 - side * h * math.sin(angle)
+        cy = (sy + ey) / 2 + side * h * math.cos(angle)
+        # the short way round: counterclockwise (G3) when the centre is on the left
+        ccw = (sx - cx) * (ey - cy) - (sy - cy) * (ex - cx) > 0
+        lines.append(f"G0 X{sx:.6f} Y{sy:.6f}")
+        lines.append(f"G{3 if ccw else 2} X{ex:.6f} Y{ey:.6f} I{cx - sx:.6f} "
+                     f"J{cy - sy:.6f}")
+    lines.append("M2")
+    return "\n".join(lines) + "\n"
+
+
+def test_an_arc_run_as_its_chord_keeps_the_bound():
+    """A public program (grbl's test/gcode/SO2_helloworld.nc, line 249, a 200 mm
+    arc in inch) and a made-up one with both ends 0.49 BLU off the lattice: an
+    arc under a quarter BLU of sagitta runs as its chord, and a chord whose
+    lattice ends cannot hold what the sagitta leaves of the bound (1.04 and
+    1.23 BLU before) runs as an arc."""
+    grbl = ("G20 G90 G17\nG0 X2.2401 Y0.8224\nG1 Z-0.01 F10\n"
+            "G2 X2.2327 Y0.8413 I7.3257 J2.8909 F40\nM2\n")
+    worst, _, _, _ = deviation(grbl)
+    assert worst <= BOUND + 1e-9, worst
+    made_up = ("G21 G90 G17\nG0 X0.00049 Y0.00000\n"
+               "G3 X0.10049 Y1.00000 I-523.38090 J52.84309 F600\nM2\n")
+    worst, _, _, _ = deviation(made_up)
+    assert worst <= BOUND + 1e-9, worst
+
+
+@pytest.mark.parametrize("seed", range(SEEDS))
+def test_arcs_run_as_chords_from_off_the_lattice(seed):
+    worst, cmds, arcs, q = deviation(flat_arcs(200, seed))
+    assert worst <= BOUND + 1e-9, worst
+
+
 def test_the_bound_is_not_met_by_placing_each_arc_once():
     """The check can fail: one arc command per programmed arc about its
     rounded centre (what the pieces replace) strays beyond 1 BLU on the same

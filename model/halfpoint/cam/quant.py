@@ -262,6 +262,53 @@ def _on_line(sx: float, sy: float, ex: float, ey: float, px: float, py: float):
     return round(px + (y - py) * ux / uy), y
 
 
+def _line_ends(cur, sx: float, sy: float, ex: float, ey: float, bound: float):
+    """Where a line from the programmed (sx, sy) to (ex, ey) (BLU) runs on the
+    lattice from the core's position ``cur`` with every point within ``bound``
+    of the programmed line: (the correcting step's lattice end or None, the
+    line's lattice end, whether both hold the bound).
+
+    A line's points lie within 0.5 BLU along the minor axis of the straight
+    line between its lattice ends: near an end they are off the programmed
+    line by that end's offset plus 0.5 cos(angle to the major axis).  A lattice
+    end within bound - 0.5 of the programmed one keeps that within bound;
+    beyond, the exact test, and a point on the line's own lattice row where the
+    nearest one fails it.  That point is within 0.5 cos of the line, which holds
+    a bound of 1 BLU whatever the angle but may not hold a smaller one (an
+    arc's chord), so the answer says whether it did."""
+    tx, ty = round(ex), round(ey)
+    near = (bound - 0.5) * (bound - 0.5)
+    fx, fy = tx - ex, ty - ey
+    gx, gy = cur[0] - sx, cur[1] - sy
+    far_end = fx * fx + fy * fy > near
+    far_start = gx * gx + gy * gy > near
+    fix, holds = None, True
+    if (far_end or far_start) and (sx != ex or sy != ey):
+        ux, uy = ex - sx, ey - sy
+        n = math.sqrt(ux * ux + uy * uy)
+        lim = bound - 0.5 * max(abs(ux), abs(uy)) / n
+
+        def strays(px: float, py: float, end: bool) -> bool:
+            along = (px * ux + py * uy) / n
+            return abs(px * uy - py * ux) / n > lim or (along > bound if end
+                                                        else along < -bound)
+
+        if far_end and strays(fx, fy, True):
+            # the nearest lattice point would let the line stray too far near
+            # its end: the one on the line's own lattice row instead
+            tx, ty = _on_line(sx, sy, ex, ey, ex, ey)
+            holds = not strays(tx - ex, ty - ey, True)
+        if far_start and strays(gx, gy, False):
+            # the core is too far from the line's start (an arc stopped off it):
+            # a correcting step onto the line's own lattice row
+            fix = _on_line(sx, sy, ex, ey, sx, sy)
+            holds = holds and not strays(fix[0] - sx, fix[1] - sy, False)
+    elif far_start and math.hypot(gx, gy) > bound:
+        fix = (round(sx), round(sy))
+        holds = math.hypot(fix[0] - sx, fix[1] - sy) <= bound
+    return fix, (tx, ty), holds
+
+
 def _line_cmd(q: Quantised, m: Move, line_head: int, cur, to, correction: bool):
     dx, dy = to[0] - cur[0], to[1] - cur[1]
     if not (dx or dy):
@@ -431,7 +478,7 @@ def quantise(moves: list[Move], blu=(DEFAULT_BLU,) * 3, width: int = 32,
     mask = 0xFFFFFFFF
     line_head = enc.OP_LINE     # no rate: a PROFILE gives each command its speeds
     for m in moves:
-        bound = LINE_BOUND
+        bound, chord = LINE_BOUND, None
         if m.kind == "arc":
             plane = PLANE_AXES[m.plane]
             a0, a1, ap = plane
@@ -441,7 +488,15 @@ def quantise(moves: list[Move], blu=(DEFAULT_BLU,) * 3, width: int = 32,
                                            f"{blu[a0]:g} and {blu[a1]:g})")
             flat_xy = m.plane == 17 and abs(m.end[2] - m.start[2]) <= 1e-12
             sag = _flat(m) if flat_xy else None
-            if sag is None or sag >= 0.25 * bx:
+            if sag is not None and sag < 0.25 * bx:
+                # an arc whose sagitta is under a quarter BLU is its chord on the
+                # lattice: run it as a line (CAM corner rounds, short joins), held
+                # within what the sagitta leaves of the bound, if the chord's
+                # lattice ends can hold that (ends far off the lattice may not)
+                bound = LINE_BOUND - sag / bx
+                chord = _line_ends(cur, m.start[0] / bx, m.start[1] / by, m.end[0] / bx,
+                                   m.end[1] / by, bound)
+            if chord is None or not chord[2]:
                 # the arc on the lattice is placed against the programmed absolute
                 # geometry, never against where the previous arc stopped (_Arcs);
                 # G18/G19 arcs and helices in their plane's coordinates (u, v, n)
@@ -451,40 +506,14 @@ def quantise(moves: list[Move], blu=(DEFAULT_BLU,) * 3, width: int = 32,
                 for a, value in zip(plane, at):
                     cur[a] = value
                 continue
-            # an arc whose sagitta is under a quarter BLU is its chord on the
-            # lattice: run it as a line (CAM corner rounds, short joins), held
-            # within what the sagitta leaves of the bound
-            bound = LINE_BOUND - sag / bx
-        ex, ey, ez = m.end
-        ex, ey = ex / bx, ey / by
-        tx, ty, tz = round(ex), round(ey), round(ez / bz)
         sx, sy = m.start[0] / bx, m.start[1] / by
-        # A line's points lie within 0.5 BLU along the minor axis of the
-        # straight line between its lattice ends: near an end they are off the
-        # programmed line by that end's offset plus 0.5 cos(angle to the major
-        # axis).  A lattice end within bound - 0.5 of the programmed one keeps
-        # that within bound; beyond, the exact test below.
-        near = (bound - 0.5) * (bound - 0.5)
-        fx, fy = tx - ex, ty - ey
-        gx, gy = cur[0] - sx, cur[1] - sy
-        far_end = fx * fx + fy * fy > near
-        far_start = gx * gx + gy * gy > near
-        if (far_end or far_start) and (sx != ex or sy != ey):
-            ux, uy = ex - sx, ey - sy
-            n = math.sqrt(ux * ux + uy * uy)
-            lim = bound - 0.5 * max(abs(ux), abs(uy)) / n
-            if far_end and (abs(fx * uy - fy * ux) / n > lim or
-                            (fx * ux + fy * uy) / n > bound):
-                # the nearest lattice point would let the line stray too far
-                # near its end: the one on the line's own lattice row instead
-                tx, ty = _on_line(sx, sy, ex, ey, ex, ey)
-            if far_start and (abs(gx * uy - gy * ux) / n > lim or
-                              (gx * ux + gy * uy) / n < -bound):
-                # the core is too far from the line's start (an arc stopped
-                # off it): a correcting step onto the line's own lattice row
-                cur = _line_cmd(q, m, line_head, cur, _on_line(sx, sy, ex, ey, sx, sy), True)
-        elif far_start and math.hypot(gx, gy) > bound:
-            cur = _line_cmd(q, m, line_head, cur, (round(sx), round(sy)), True)
+        fix, (tx, ty), _ = chord or _line_ends(cur, sx, sy, m.end[0] / bx, m.end[1] / by,
+                                               bound)
+        tz = round(m.end[2] / bz)
+        if fix is not None:
+            # the core is too far from the line's start (an arc stopped off
+            # it): a correcting step onto the line first
+            cur = _line_cmd(q, m, line_head, cur, fix, True)
         if not (lo <= tx <= hi and lo <= ty <= hi and lo <= tz <= hi):
             raise GcodeError(m.lineno, f"end point outside the core's {width}-bit range "
                                        "at this BLU")
