@@ -287,6 +287,26 @@ def test_zero_junction_deviation_stops_at_every_corner_but_not_on_straights():
     assert planned[0].v_exit > 0 and planned[1].v_exit == 0.0
 
 
+def test_exact_stop_g61_1_stops_at_the_end_of_every_block():
+    """LinuxCNC's G61.1: "movement will stop at the end of each programmed segment",
+    collinear ones included; G61 and G64 blend (the lattice path is exact in all three:
+    the core never rounds a corner).  The mode is modal and acts on the block it is in
+    force for: the junction after a G61.1 block is a stop."""
+    text = ("G21 G90 G61.1 G1 F3000\nX1\nX2\nX3\nG64\nX4\nX5\n"
+            "G61\nX6\nX7\nG61.1 X8\nG64 X9\nM2\n")
+    prog = parse(text)
+    m = machine()
+    planned = plan(prog.moves, m)
+    check_plan(prog.moves, planned, m)
+    exits = [p.v_exit for p in planned]
+    # blocks X1..X3 and X8 end at rest; X4..X7 and X9's neighbours blend
+    assert [e == 0.0 for e in exits] == [True, True, True, False, False, False, False,
+                                         True, True]
+    assert all(p.v_cruise > 0 for p in planned)
+    blended = plan(parse(text.replace("G61.1", "G64")).moves, m)
+    assert estimate_time(planned) > estimate_time(blended) + 0.02
+
+
 def test_arc_meets_its_neighbours_with_its_tangent():
     # a line along +X into a CCW quarter arc starting with tangent +X: straight, no slowdown
     m = machine(acc=(2000.0, 2000.0, 500.0))

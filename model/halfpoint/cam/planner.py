@@ -323,7 +323,8 @@ def plan(items, machine: Machine) -> list:
             continue
         chain.append(seg)
         stop_before.append(pending_stop)
-        pending_stop = False
+        # G61.1, exact stop: the motion stops at the end of each block (LinuxCNC)
+        pending_stop = item.path_mode == "G61.1"
     n = len(chain)
     # max_e2[i]: largest entry speed^2 of chain[i]; e2[n] = 0, the program ends at rest
     max_e2 = [0.0] * (n + 1)
