@@ -222,3 +222,65 @@ def test_random_contours_no_gouge_no_self_intersection(seed):
                 shared = (j == i + 1 and math.dist(p, a.end) < 1e-6) or \
                          (i == 0 and j == len(path) - 1 and math.dist(p, a.start) < 1e-6)
                 assert shared, f"elements {i} and {j} cross at {p} (seed {seed}, {side})"
+
+
+SQUARE_WITH_PLUNGE = """G21 G17 G90 G94 F600
+G0 Z1
+G0 X10 Y10
+G41.1 D4 G1 X10 Y0
+G1 Z-1
+G1 X20 Y0
+G1 X20 Y20
+G1 X0 Y20
+G1 X0 Y0
+G1 X10 Y0
+G0 Z1
+G40 G0 X10 Y10
+M2
+"""
+
+
+def test_z_moves_round_a_closed_loop_keep_their_place_in_program_order():
+    """A plunge after the entry and a retract after the loop's last block (a public
+    program's pattern, found by a G-code trial): the plunge was made after the loop
+    (the first edge ramped down from the safe height instead), and the loop closed on
+    the first edge's part before the entry's join after the retract, so the tool fed
+    back down to depth and left by a rapid at depth."""
+    res = compensate(parse(SQUARE_WITH_PLUNGE).moves)
+    assert not res.warnings and not res.skipped
+    moves = res.moves
+    xy = [k for k, m in enumerate(moves) if not _close2(m.start, m.end)]
+    plunge = next(k for k, m in enumerate(moves) if m.lineno == 5)
+    retract = next(k for k, m in enumerate(moves) if m.lineno == 11)
+    # XY moves before the plunge and after the retract at the safe height
+    for k in xy:
+        m = moves[k]
+        if k < plunge or k > retract:
+            assert m.end[2] == 1.0, (k, m)
+        else:
+            # the whole loop at depth, no ramp
+            assert m.start[2] == m.end[2] == -1.0, (k, m)
+    # the loop's offset cut whole at depth: 4 x 16 mm inside the 20 mm square
+    depth = sum(math.dist(moves[k].start[:2], moves[k].end[:2]) for k in xy
+                if plunge < k < retract)
+    assert depth == pytest.approx(64.0, abs=1e-9)
+    # the exit rapid leaves from where the retract ended, at the safe height
+    assert moves[-1].kind == "rapid" and moves[-1].start[2] == 1.0
+
+
+def _close2(p, q):
+    return math.dist(p[:2], q[:2]) <= 1e-12
+
+
+def test_depth_passes_round_one_closed_contour_are_refused_naming_the_line():
+    """A closed contour followed round twice with compensation on (a ramp to each
+    depth, as LinuxCNC's useful-subroutines o200 does): the passes' offsets coincide
+    and the first pass was skipped with a warning that the tool could not follow it,
+    while the second ramped to its depth from the safe height.  Refused, naming the
+    block where the second pass starts."""
+    text = SQUARE_WITH_PLUNGE.replace("G1 Z-1\nG1 X20 Y0\n", "G1 X20 Y0 Z-1\n").replace(
+        "G1 X10 Y0\nG0 Z1\n",
+        "G1 X10 Y0\nG1 X20 Y0 Z-2\nG1 X20 Y20\nG1 X0 Y20\nG1 X0 Y0\nG1 X10 Y0\nG0 Z1\n")
+    with pytest.raises(GcodeError) as exc:
+        compensate(parse(text).moves)
+    assert exc.value.lineno == 10 and "followed round again" in str(exc.value)

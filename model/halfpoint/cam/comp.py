@@ -372,6 +372,21 @@ class _Stretch:
                 xy = [m for m, f in zip(self.contour, moving) if f]
             loop = _loop(start_xy, xy)
         self.closed = loop is not None
+        if loop is not None:
+            a, b = loop
+            verts = [start_xy] + [m.end[:2] for m in xy]
+            for c in range(a + 1, b):
+                if _close(verts[c], verts[a], 1e-6) and _encloses(xy[a:c]) and \
+                        _encloses(xy[c:b]):
+                    # followed round more than once (depth passes): every pass
+                    # would be a loop of its own, and the interference check
+                    # would read the passes' offsets as crossing each other
+                    raise GcodeError(xy[c].lineno,
+                                     f"the closed contour of lines {xy[a].lineno}-"
+                                     f"{xy[c - 1].lineno} is followed round again from "
+                                     "here with cutter compensation on (depth passes): "
+                                     "not supported; turn compensation off (G40) after "
+                                     "each pass and on again (G41/G42) for the next")
         loop_first = None
         if loop is not None:
             a, b = loop
@@ -867,36 +882,62 @@ class _Stretch:
                                       "narrower than the tool")
 
     def emit(self):
-        """Moves of the chain; consecutive parts of one raw element are merged."""
+        """Moves of the chain; consecutive parts of one raw element are merged.
+
+        Z-only moves keep their place in program order: the pieces are in program
+        order (the parts of a cut element in a row), and a Z-only move that follows
+        piece i is made where the path first goes on past piece i (before the first
+        move of a later piece), or at the path's end.  So a plunge after the entry
+        comes before the contour even where the entry was cut short, and a retract
+        after a closed loop's last block comes after the loop has closed, even where
+        the path closes on the first block's part before the entry's join."""
         pieces = self.pieces
-        groups: list[list[Piece]] = []
+        groups: list[list[int]] = []
         if not self.cut_keys:
-            groups = [[pieces[k]] for k in self.chain]
+            groups = [[k] for k in self.chain]
         else:
             for k in self.chain:
                 p = pieces[k]
                 g = groups[-1] if groups else None
-                if g and g[-1].raw == p.raw and abs(g[-1].t1 - p.t0) < 1e-12 and \
-                        _close(g[-1].el.end, p.el.start, 1e-9):
-                    g.append(p)
+                q = pieces[g[-1]] if g else None
+                if q is not None and q.raw == p.raw and abs(q.t1 - p.t0) < 1e-12 and \
+                        _close(q.el.end, p.el.start, 1e-9):
+                    g.append(k)
                 else:
-                    groups.append([p])
+                    groups.append([k])
         out: list[Move] = []
         self.path, self.path_roles, self.path_out = [], [], []
-        emitted = set()
         if len(groups) == len(self.chain):
             self.path_arr = self.arr[self.chain]
         else:
             self.path_arr = None
+        # the Z-only moves in program order: (the piece they follow, their order)
+        pending = [(i, j, ev) for i, p in enumerate(pieces) if p.events
+                   for j, ev in enumerate(p.events)]
+        done = 0
+        reached = -1
+        t = None
+
+        def z_moves(before: int):
+            nonlocal done
+            while done < len(pending) and pending[done][0] < before:
+                ev = pending[done][2]
+                out.append(Move(ev.kind, (t[0], t[1], ev.start[2]), (t[0], t[1], ev.end[2]),
+                                ev.lineno, ev.feed))
+                done += 1
+
         for g in groups:
-            first, last = g[0], g[-1]
+            first, last = pieces[g[0]], pieces[g[-1]]
+            reached = max(reached, g[-1])
+            if t is not None:
+                z_moves(reached)
             if first is last:
                 el = first.el
             elif type(first.el) is Line:
                 el = Line(first.el.start, last.el.end, first.src, first.el.corner)
             else:
-                el = Arc(first.el.c, first.el.r, first.el.a0, sum(p.el.sweep for p in g),
-                         first.src, first.el.corner)
+                el = Arc(first.el.c, first.el.r, first.el.a0,
+                         sum(pieces[k].el.sweep for k in g), first.src, first.el.corner)
             self.path.append(el)
             self.path_roles.append(first.role)
             self.path_out.append(len(out))
@@ -912,15 +953,10 @@ class _Stretch:
                 t = (sx, sy) if _full_turn(el) else last.el.end
                 out.append(Move("arc", (sx, sy, first.z0), (t[0], t[1], last.z1), first.src,
                                 first.feed, el.c, el.sweep < 0, 17))
-            if last.events is None:
-                continue
-            for p in g:
-                for ev in p.events or ():
-                    emitted.add(id(ev))
-                    out.append(Move(ev.kind, (t[0], t[1], ev.start[2]), (t[0], t[1], ev.end[2]),
-                                    ev.lineno, ev.feed))
-        # Z-only moves on pieces the path passed by keep their order at its end
-        self.stray = [ev for p in pieces if p.events for ev in p.events if id(ev) not in emitted]
+        # the rest at the path's end, in program order
+        if t is not None:
+            z_moves(len(pieces))
+        self.stray = [ev for _, _, ev in pending[done:]]
         return out
 
     def emit_lead_out(self, out: list[Move]) -> list[Move]:
