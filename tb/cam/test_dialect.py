@@ -420,6 +420,18 @@ def test_system_parameters_read_the_state_the_blocks_before_left():
         ("rapid", (1, 2, 3)), ("rapid", (3, 5, 3))]
 
 
+def test_tool_diameter_parameter_5410_reads_the_loaded_tool():
+    """LinuxCNC's #5410, the loaded tool's diameter (every ngcgui milling subroutine
+    reads it after loading its tool; it was refused as machine state halfpoint did not
+    provide), in program units; 0 without a tool; #5411-#5413 (lathe angles and
+    orientation) 0."""
+    tools = load_tool_table(TOOLS)
+    prog = parse("G0 X#5410\nT1 M6\nG0 X#5410\nT2 M6\nG20\nG0 Y#5410\n"
+                 "G21 G0 Z[#5411 + #5412 + #5413]\nM2", tools=tools)
+    assert pts(prog) == [("rapid", (0, 0, 0)), ("rapid", (6, 0, 0)),
+                         ("rapid", (6, 3, 0)), ("rapid", (6, 3, 0))]
+
+
 def test_named_modal_parameters_and_program_units():
     # a line reads the values from before it: G21 G91 count from the next line on
     prog = parse("G20 G0 X1\nG0 Y#<_x>\nG21 G91\nG0 Z[#<_metric> + #<_incremental> * 10]\n"

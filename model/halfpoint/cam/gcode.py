@@ -465,6 +465,14 @@ class _Parser:
             return float(self.loaded or 0)
         if 5401 <= n <= 5409:
             return self.tlo[n - 5401] / s if n < 5404 else 0.0
+        if n == 5410:
+            # the loaded tool's diameter (0 without a tool or a D in the table)
+            r = self.tools.get(self.loaded) if self.loaded and self.tools else None
+            if r is None:
+                return 0.0
+            return 2 * r * _table_scale(self.tools, s, self.prog.notes, "diameters") / s
+        if 5411 <= n <= 5413:
+            return 0.0          # front and back angle, orientation: lathe tools
         if 5420 <= n <= 5428:
             return self.program_pos()[n - 5420] / s if n < 5423 else 0.0
         return None
