@@ -71,9 +71,11 @@
 //   Kept beside the model's registers, so that each decision comes from the
 //   sign of a register or one carry chain from registers (the test checks
 //   each against the model's values every clock it is meaningful):
-//   over_axis_q, over_diagonal_q, over_line_q 43 signed: credit - (cost <<
-//                  22) for the three costs (> -2^40, < 2^42); their signs are
-//                  the pop's compares
+//   covers_axis_q, covers_diagonal_q: credit >= cost << 22 for the axis
+//                  and the diagonal cost; over_line_q 21 signed: (credit >>
+//                  22) - line_cost (> -2^18, < 2^20), the whole part of credit
+//                  - (line_cost << 22), whose fraction bits are the credit's;
+//                  the three are the pop's compares
 //   tick_done_q    since_q at its top
 //   ramp_down_level_q, ramp_floor_level_q DIV+42 signed, ramp_below_q: the
 //                  level the staircase adds at its next step, stepping down
@@ -157,13 +159,11 @@ module halfpoint_profile #(
     localparam integer DW = W + 19;                             // distances
     localparam integer RW = DIV + 42;                           // ramp_left
     localparam integer VW = 38;                                 // speeds
-    localparam integer CW = 43;                                 // credit less a cost
+    localparam integer HW = 21;                                 // credit less a cost, whole
     localparam [17:0] COST_AXIS = 18'd65536;                    // 2^16
     localparam [17:0] COST_DIAGONAL = 18'd92682;                // round(sqrt(2) x 2^16)
     localparam [7:0] OVERRIDE_ONE = 8'd128;
-    // the credit less the axis / diagonal cost when the credit is 0
-    localparam [CW-1:0] OVER_AXIS_ZERO = {CW{1'b0}} - {{(CW-40){1'b0}}, COST_AXIS, 22'd0};
-    localparam [CW-1:0] OVER_DIAGONAL_ZERO = {CW{1'b0}} - {{(CW-40){1'b0}}, COST_DIAGONAL, 22'd0};
+    localparam [19:0] DIAGONAL_WHOLE = {2'd0, COST_DIAGONAL};    // credit_whole covering it
     localparam [DIV-1:0] SINCE_ONE = 1;
     localparam [DIV-1:0] SINCE_LAST = {DIV{1'b1}} - SINCE_ONE;  // the count before the top
 
@@ -177,7 +177,9 @@ module halfpoint_profile #(
     reg  [DW-1:0] d_exit_q;
     reg  [DW-1:0] d_stop_q;
     reg  [31:0]   v_exit_q;
-    reg  [40:0]   cap_q;            // twice the largest cost, x 2^22, loaded with them
+    // the cap, twice the largest cost x 2^22, over 2^23 (its bits below are 0):
+    // the largest cost, loaded with them
+    reg  [17:0]   cap_q;
     // derived from the fields on the clock after the take
     reg           exit_nonzero_q;   // v_exit != 0
     reg  [37:0]   exit_speed_q;     // v_exit << 6, or the creep speed accel for 0
@@ -188,13 +190,15 @@ module halfpoint_profile #(
     reg  [37:0]   v_q;              // speed
     reg  [37:0]   target_q;         // its target, a clock ahead
     reg  [41:0]   credit_q;
-    // credit - (65536 << 22), credit - (92682 << 22) and credit - (line_cost
-    // << 22), CW bits signed: their signs are the compares of the credit with
-    // the three costs (updated as the credit, with the line cost the next
-    // segment's from a take on)
-    reg  [CW-1:0] over_axis_q;
-    reg  [CW-1:0] over_diagonal_q;
-    reg  [CW-1:0] over_line_q;
+    // the compares of the credit with the three costs, kept beside it: credit
+    // >= 65536 << 22 and >= 92682 << 22, and (credit >> 22) - line_cost, HW
+    // bits signed, whose sign is the third (updated as the credit, with the
+    // line cost the next segment's from a take on).  A cost has no fraction
+    // bits, so credit - (cost << 22) has the credit's 22 fraction bits and the
+    // whole part (credit >> 22) - cost: only that part is kept
+    reg           covers_axis_q;
+    reg           covers_diagonal_q;
+    reg  [HW-1:0] over_line_q;
     // the credit's gain: 0 when the credit was at its cap a clock ago (the
     // model's full), else v (a copy of v_q for the credit's paths)
     reg  [37:0]   gain_q;
@@ -242,12 +246,12 @@ module halfpoint_profile #(
         endcase
     end
     wire [19:0]   credit_whole = credit_q[41:22];              // credit in cost units
-    // the credit against each cost from registers alone (the signs of the
-    // credit less the diagonal and the line cost, kept beside it); the head's
+    // the credit against each cost from registers alone (two compares and
+    // the sign of the credit less the line cost, kept beside it); the head's
     // class selects among them, so the inputs only meet the last LUTs
-    wire          covers_axis = !over_axis_q[CW-1];
-    wire          covers_diagonal = !over_diagonal_q[CW-1];
-    wire          covers_line = !over_line_q[CW-1];
+    wire          covers_axis = covers_axis_q;
+    wire          covers_diagonal = covers_diagonal_q;
+    wire          covers_line = !over_line_q[HW-1];
     reg           covers;
     always @(*) begin
         case (head_class)
@@ -293,53 +297,56 @@ module halfpoint_profile #(
     // last
     wire [41:0]   credit_rest = at_rest_stop ? 42'd0
                                 : (cur_valid_q ? credit_keep : credit_q);
-    // the same sums less the diagonal cost, and less the line cost: - cost
-    // and the +1 of its negation in a carry-save level as above
-    wire [CW-1:0] gain_credit = {{(CW-38){1'b0}}, gain};
-    wire [CW-1:0] cost_neg = ~{{(CW-40){1'b0}}, cost, 22'd0};
-    wire [CW-1:0] od_keep = over_diagonal_q + gain_credit;
-    wire [CW-1:0] od_x = over_diagonal_q ^ gain_credit ^ cost_neg;
-    wire [CW-2:0] od_m = (over_diagonal_q[CW-2:0] & gain_credit[CW-2:0])
-                         | (over_diagonal_q[CW-2:0] & cost_neg[CW-2:0])
-                         | (gain_credit[CW-2:0] & cost_neg[CW-2:0]);
-    wire [CW-1:0] od_popped = od_x + {od_m, 1'b1};
-    wire [CW-1:0] oa_keep = over_axis_q + gain_credit;
-    wire [CW-1:0] oa_x = over_axis_q ^ gain_credit ^ cost_neg;
-    wire [CW-2:0] oa_m = (over_axis_q[CW-2:0] & gain_credit[CW-2:0])
-                         | (over_axis_q[CW-2:0] & cost_neg[CW-2:0])
-                         | (gain_credit[CW-2:0] & cost_neg[CW-2:0]);
-    wire [CW-1:0] oa_popped = oa_x + {oa_m, 1'b1};
-    wire [CW-1:0] ol_keep = over_line_q + gain_credit;
-    wire [CW-1:0] ol_x = over_line_q ^ gain_credit ^ cost_neg;
-    wire [CW-2:0] ol_m = (over_line_q[CW-2:0] & gain_credit[CW-2:0])
-                         | (over_line_q[CW-2:0] & cost_neg[CW-2:0])
-                         | (gain_credit[CW-2:0] & cost_neg[CW-2:0]);
-    wire [CW-1:0] ol_popped = ol_x + {ol_m, 1'b1};
+    // the compares with the axis and the diagonal cost after this edge, for
+    // both outcomes of the pop: credit >= 2^38 is a set bit among the top
+    // four; the diagonal cost is compared with the whole part
+    wire          axis_keep = |credit_keep[41:38];
+    wire          axis_popped = |credit_popped[41:38];
+    wire          diagonal_keep = (credit_keep[41:22] >= DIAGONAL_WHOLE);
+    wire          diagonal_popped = (credit_popped[41:22] >= DIAGONAL_WHOLE);
+    wire          axis_rest = !at_rest_stop && (cur_valid_q ? axis_keep : covers_axis_q);
+    wire          diagonal_rest = !at_rest_stop && (cur_valid_q ? diagonal_keep
+                                                               : covers_diagonal_q);
+    // the credit less the line cost, whole part: the same sums on HW bits,
+    // the gain's whole part with the carry out of the fraction bits (credit +
+    // gain there) as carry-in: {a, c} + {b, c} is 2 (a + b + c) + 0; - cost
+    // and the +1 of its negation in a carry-save level
+    wire          gain_carry = credit_keep[22] ^ credit_q[22] ^ gain[22];
+    wire [HW-1:0] gain_whole = {{(HW-16){1'b0}}, gain[37:22]};
+    wire [HW-1:0] cost_neg = ~{{(HW-18){1'b0}}, cost};
+    wire [HW:0]   ol_keep_c = {over_line_q, gain_carry} + {gain_whole, gain_carry};
+    wire [HW-1:0] ol_keep = ol_keep_c[HW:1];
+    wire [HW-1:0] ol_x = over_line_q ^ gain_whole ^ cost_neg;
+    wire [HW-2:0] ol_m = (over_line_q[HW-2:0] & gain_whole[HW-2:0])
+                         | (over_line_q[HW-2:0] & cost_neg[HW-2:0])
+                         | (gain_whole[HW-2:0] & cost_neg[HW-2:0]);
+    wire [HW:0]   ol_popped_c = {ol_x, gain_carry} + {ol_m, 1'b1, gain_carry};
+    wire [HW-1:0] ol_popped = ol_popped_c[HW:1];
     // a take on the segment's last move: credit + gain - cost - next line
     // cost, two carry-save levels; a take without a segment: credit - next
     // line cost; stop at rest: 0 - line cost
-    wire [CW-1:0] credit_wide = {{(CW-42){1'b0}}, credit_q};
-    wire [CW-1:0] next_line_neg = ~{{(CW-40){1'b0}}, next_line_cost, 22'd0};
-    wire [CW-1:0] ot_x = credit_wide ^ gain_credit ^ cost_neg;
-    wire [CW-2:0] ot_m = (credit_wide[CW-2:0] & gain_credit[CW-2:0])
-                         | (credit_wide[CW-2:0] & cost_neg[CW-2:0])
-                         | (gain_credit[CW-2:0] & cost_neg[CW-2:0]);
-    wire [CW-1:0] ot_y = {ot_m, 1'b1};
-    wire [CW-1:0] ot_x2 = ot_x ^ ot_y ^ next_line_neg;
-    wire [CW-2:0] ot_m2 = (ot_x[CW-2:0] & ot_y[CW-2:0]) | (ot_x[CW-2:0] & next_line_neg[CW-2:0])
-                          | (ot_y[CW-2:0] & next_line_neg[CW-2:0]);
-    wire [CW-1:0] ol_take = ot_x2 + {ot_m2, 1'b1};
-    wire [CW-1:0] ol_idle = credit_wide - {{(CW-40){1'b0}}, next_line_cost, 22'd0};
-    wire [CW-1:0] ol_stop = {CW{1'b0}} - {{(CW-40){1'b0}}, line_cost_q, 22'd0};
-    wire [CW-1:0] oa_rest = at_rest_stop ? OVER_AXIS_ZERO
-                            : (cur_valid_q ? oa_keep : over_axis_q);
-    wire [CW-1:0] od_rest = at_rest_stop ? OVER_DIAGONAL_ZERO
-                            : (cur_valid_q ? od_keep : over_diagonal_q);
-    wire [CW-1:0] ol_rest = at_rest_stop ? ol_stop
+    wire [HW-1:0] credit_high = {1'b0, credit_whole};
+    wire [HW-1:0] next_line_neg = ~{{(HW-18){1'b0}}, next_line_cost};
+    wire [HW-1:0] ot_x = credit_high ^ gain_whole ^ cost_neg;
+    wire [HW-2:0] ot_m = (credit_high[HW-2:0] & gain_whole[HW-2:0])
+                         | (credit_high[HW-2:0] & cost_neg[HW-2:0])
+                         | (gain_whole[HW-2:0] & cost_neg[HW-2:0]);
+    wire [HW-1:0] ot_y = {ot_m, 1'b1};
+    wire [HW-1:0] ot_x2 = ot_x ^ ot_y ^ next_line_neg;
+    wire [HW-2:0] ot_m2 = (ot_x[HW-2:0] & ot_y[HW-2:0]) | (ot_x[HW-2:0] & next_line_neg[HW-2:0])
+                          | (ot_y[HW-2:0] & next_line_neg[HW-2:0]);
+    wire [HW:0]   ol_take_c = {ot_x2, gain_carry} + {ot_m2, 1'b1, gain_carry};
+    wire [HW-1:0] ol_take = ol_take_c[HW:1];
+    // bit 0 of the three sums with a carry-in is 0 and not used
+    wire          unused_carry_in_bits = ol_keep_c[0] ^ ol_popped_c[0] ^ ol_take_c[0];
+    wire [HW-1:0] ol_idle = credit_high - {{(HW-18){1'b0}}, next_line_cost};
+    wire [HW-1:0] ol_stop = {HW{1'b0}} - {{(HW-18){1'b0}}, line_cost_q};
+    wire [HW-1:0] ol_rest = at_rest_stop ? ol_stop
                             : (cur_valid_q ? ol_keep : (take_idle ? ol_idle : over_line_q));
     wire [DW-1:0] s_plus = s_q + {{(DW-18){1'b0}}, cost};
     wire [DW-1:0] s_rest = at_rest_stop ? {DW{1'b0}} : s_q;
-    wire          at_cap = (credit_q >= {1'b0, cap_q});
+    // the cap has no bits below 2^23 (a cost x 2^23): only the bits above compare
+    wire          at_cap = (credit_q[41:23] >= {1'b0, cap_q});
 
     // earned distance E = s + credit / 2^22 against d_exit and d_stop:
     // s + credit_whole - d >= 0, one carry-save level and one carry chain each
@@ -606,9 +613,9 @@ module halfpoint_profile #(
             v_zero_q    <= 1'b1;
             target_q    <= 38'd0;
             credit_q    <= 42'd0;
-            over_axis_q <= OVER_AXIS_ZERO;
-            over_diagonal_q <= OVER_DIAGONAL_ZERO;
-            over_line_q <= {CW{1'b0}};
+            covers_axis_q <= 1'b0;
+            covers_diagonal_q <= 1'b0;
+            over_line_q <= {HW{1'b0}};
             gain_q      <= 38'd0;
             s_q         <= {DW{1'b0}};
             since_q     <= {DIV{1'b1}};
@@ -648,8 +655,8 @@ module halfpoint_profile #(
             ov_target_q <= ov_sum;
             // credit and distance
             credit_q        <= pop_now ? credit_popped : credit_rest;
-            over_axis_q     <= pop_now ? oa_popped : oa_rest;
-            over_diagonal_q <= pop_now ? od_popped : od_rest;
+            covers_axis_q     <= pop_now ? axis_popped : axis_rest;
+            covers_diagonal_q <= pop_now ? diagonal_popped : diagonal_rest;
             over_line_q     <= pop_now ? (head_last && next_valid ? ol_take : ol_popped)
                                        : ol_rest;
             s_q             <= pop_now ? (head_last ? {DW{1'b0}} : s_plus) : s_rest;
@@ -692,7 +699,7 @@ module halfpoint_profile #(
             d_exit_q          <= next_d_exit;
             d_stop_q          <= next_d_stop;
             v_exit_q          <= next_v_exit;
-            cap_q <= {(next_line_cost != 18'd0) ? next_line_cost : COST_DIAGONAL, 23'd0};
+            cap_q             <= (next_line_cost != 18'd0) ? next_line_cost : COST_DIAGONAL;
         end
     end
     // what the staircase derives from them, registered on every edge from
@@ -767,8 +774,9 @@ module halfpoint_profile #(
     //   abort    pop, take, stopped and holding are 0 during abort_now, and
     //            the edge leaves the speed at 0 and no segment;
     //   kept     v_zero_q is v == 0; tick_done_q is since_q at its top;
-    //            over_axis_q, over_diagonal_q (always) and over_line_q (with a
-    //            segment) are the credit less their costs x 2^22; gain_q is 0
+    //            covers_axis_q, covers_diagonal_q (always) are the credit's
+    //            compares with their costs x 2^22 and over_line_q (with a
+    //            segment) the credit's whole part less it; gain_q is 0
     //            or v_q; target_q is 0 after a clock of hold or stop; the
     //            credit below F_CREDIT_B (it never wraps), cap_q its segment's.
     // F_CONTRACT_ONLY leaves out the kept registers' invariants (i_*: what
@@ -830,15 +838,12 @@ module halfpoint_profile #(
         if (f_past_valid) begin
             i_v_zero: assert(v_zero_q == (v_q == 38'd0));
             i_tick: assert(tick_done_q == (since_q == {DIV{1'b1}}));
-            i_over_axis: assert(over_axis_q
-                                == {1'b0, credit_q} - {{(CW-40){1'b0}}, COST_AXIS, 22'd0});
-            i_over_diagonal: assert(over_diagonal_q
-                                    == {1'b0, credit_q} - {{(CW-40){1'b0}}, COST_DIAGONAL,
-                                                           22'd0});
+            i_covers_axis: assert(covers_axis_q == (credit_q >= {2'd0, COST_AXIS, 22'd0}));
+            i_covers_diagonal: assert(covers_diagonal_q
+                                      == (credit_q >= {2'd0, COST_DIAGONAL, 22'd0}));
             if (cur_valid_q)
                 i_over_line: assert(over_line_q
-                                    == {1'b0, credit_q} - {{(CW-40){1'b0}}, line_cost_q,
-                                                           22'd0});
+                                    == {1'b0, credit_q[41:22]} - {{(HW-18){1'b0}}, line_cost_q});
             i_gain: assert(gain_q == 38'd0 || gain_q == v_q);
             // the credit never wraps: below 2^41 + 2^39, and below 2^41 + 2^38
             // when it gains on the next edge (a gain is < 2^38 and follows a
@@ -846,9 +851,8 @@ module halfpoint_profile #(
             i_credit: assert(credit_q < F_CREDIT_B);
             if (gain_q != 38'd0)
                 i_credit_gaining: assert(credit_q < F_CREDIT_B - (42'd1 << 38));
-            i_cap: assert(!cur_valid_q || cap_q == {(line_cost_q != 18'd0) ? line_cost_q
-                                                                         : COST_DIAGONAL,
-                                                    23'd0});
+            i_cap: assert(!cur_valid_q || cap_q == ((line_cost_q != 18'd0) ? line_cost_q
+                                                                          : COST_DIAGONAL));
             if (!cur_valid_q)
                 i_no_segment_no_speed: assert(gain_q == 38'd0);
         end

@@ -598,12 +598,13 @@ class Monitor:
             "ramp_on", "ramp_dry", "ramp_v", "tick_done")}
         # the model's ov_prod is held as four partial sums
         got["ov_prod"] = sum(int(getattr(d, f"ov_part_{k}_q").value) for k in "abcd")
-        # the credit less the axis and diagonal costs (always) and the line cost (with
-        # a segment): their signs are the compares the pop uses
-        got["over_axis"] = signed(int(d.over_axis_q.value), 43)
-        got["over_diagonal"] = signed(int(d.over_diagonal_q.value), 43)
+        # the credit's compares with the axis and diagonal costs (always) and the
+        # whole part of the credit less the line cost (with a segment), whose sign
+        # is the third compare the pop uses
+        got["covers_axis"] = int(d.covers_axis_q.value)
+        got["covers_diagonal"] = int(d.covers_diagonal_q.value)
         if got["cur_valid"]:
-            got["over_line"] = signed(int(d.over_line_q.value), 43)
+            got["over_line"] = signed(int(d.over_line_q.value), 21)
         rw = ramp_left_width()
         if got["ramp_on"]:
             # meaningful only while the staircase runs (the RTL does not clear it)
@@ -650,10 +651,10 @@ def model_registers(model: ProfileStage, fresh: bool = False) -> dict:
             "ov_target": model.ov_target, "past_exit": int(model.past_exit),
             "past_stop": int(model.past_stop), "ramp_on": int(model.ramp_on),
             "ramp_dry": int(model.ramp_dry), "ramp_v": model.ramp_v}
-    want["over_axis"] = model.credit - (pf.COST_AXIS << pf.COST_SHIFT)
-    want["over_diagonal"] = model.credit - (pf.COST_DIAG << pf.COST_SHIFT)
+    want["covers_axis"] = int(model.credit >= pf.COST_AXIS << pf.COST_SHIFT)
+    want["covers_diagonal"] = int(model.credit >= pf.COST_DIAG << pf.COST_SHIFT)
     if model.cur is not None:
-        want["over_line"] = model.credit - (model.cur.line_cost << pf.COST_SHIFT)
+        want["over_line"] = (model.credit >> pf.COST_SHIFT) - model.cur.line_cost
     if model.ramp_on:
         want["ramp_left"] = model.ramp_left
         # the RTL keeps the level of the staircase's next step ready both ways:
@@ -667,7 +668,7 @@ def model_registers(model: ProfileStage, fresh: bool = False) -> dict:
     if model.cur is not None:
         c = model.cur
         want.update(line_cost=c.line_cost, d_exit=c.d_exit, d_stop=c.d_stop,
-                    v_exit=c.v_exit, cap=(c.largest_cost() << pf.COST_SHIFT) << 1)
+                    v_exit=c.v_exit, cap=c.largest_cost())
     if model.cur is not None and not fresh:
         # the RTL keeps v_exit as the staircase's exit speed (the creep speed for 0)
         # and the products of the levels, derived on the segment's first clock
@@ -1136,6 +1137,48 @@ async def no_pop_without_a_segment(dut):
         w = await clock(head_valid=1, head_class=CLASS_AXIS, ready=1)
         assert not w.pop
     bench.report("no segment")
+
+
+@cocotb.test()
+async def diagonal_covered_just_above_its_cost(dut):
+    """The diagonal cost's compare is registered from the credit after a pop: an axis
+    move pops at the clock that leaves the credit's whole part in 92688 .. 92697, a few
+    units above the diagonal cost, where bit 4 of the compared value is set and the
+    constant's is clear, and the diagonal behind it must pop on the next clock
+    (mutation #107 of 2026-11-27, that bit forced to 0, survived every other test).
+    At 10 whole units (2^-16 BLU) per clock the credit counts up from 0 in steps of 10,
+    so it passes through the window (about 16,000 clocks); every clock compared."""
+    bind(dut)
+    bench = Bench(dut, SEED + 700)
+    await bench.start()
+    model = bench.model
+    units = 10
+    length = COST_AXIS + 2 * pf.COST_DIAG
+    profile = ProfileParams(units << 16, 0, 1 << 30, 0, length, length)
+
+    async def clock(**kw):
+        inp = ProfileInputs(override=pf.OVERRIDE_ONE, **kw)
+        return await bench.step(inp, "diagonal remainder")
+
+    await clock(next_valid=1, next_profile=profile)            # taken idle
+    for _ in range(20000):
+        gain = 0 if model.full else model.v
+        after = (model.credit + gain - (COST_AXIS << pf.COST_SHIFT)) >> pf.COST_SHIFT
+        if 92688 <= after <= 92697:
+            break
+        await clock(head_valid=1, head_class=CLASS_AXIS, ready=0)
+    else:
+        assert False, "the credit never came to leave 92688 .. 92697 after an axis move"
+    w = await clock(head_valid=1, head_class=CLASS_AXIS, ready=1)
+    assert w.pop and 92688 <= model.credit >> pf.COST_SHIFT <= 92697, model.credit
+    w = await clock(head_valid=1, head_class=CLASS_DIAG, ready=1)
+    assert w.pop
+    for _ in range(1 << 16):
+        w = await clock(head_valid=1, head_class=CLASS_DIAG, head_last=1, ready=1)
+        if w.pop:
+            break
+    assert model.cur is None
+    bench.report("diagonal remainder")
 
 
 @cocotb.test(skip=not LONG)

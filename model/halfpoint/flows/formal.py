@@ -264,7 +264,7 @@ MUTANTS = [
            ("bmc_div2",),
            "hold does not lower the target (the speed keeps rising under hold)"),
     Mutant("profile_pop_unpaid", "halfpoint_profile", "rtl/halfpoint_profile.v",
-           "wire          covers_axis = !over_axis_q[CW-1];",
+           "wire          covers_axis = covers_axis_q;",
            "wire          covers_axis = 1'b1;",
            ("bmc_div2",),
            "an axis move pops whether or not the credit covers it"),
