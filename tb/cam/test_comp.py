@@ -240,6 +240,10 @@ M2
 """
 
 
+def _same_xy(p, q):
+    return math.dist(p[:2], q[:2]) <= 1e-12
+
+
 def test_z_moves_round_a_closed_loop_keep_their_place_in_program_order():
     """A plunge after the entry and a retract after the loop's last block (a public
     program's pattern, found by a G-code trial): the plunge was made after the loop
@@ -249,7 +253,7 @@ def test_z_moves_round_a_closed_loop_keep_their_place_in_program_order():
     res = compensate(parse(SQUARE_WITH_PLUNGE).moves)
     assert not res.warnings and not res.skipped
     moves = res.moves
-    xy = [k for k, m in enumerate(moves) if not _close2(m.start, m.end)]
+    xy = [k for k, m in enumerate(moves) if not _same_xy(m.start, m.end)]
     plunge = next(k for k, m in enumerate(moves) if m.lineno == 5)
     retract = next(k for k, m in enumerate(moves) if m.lineno == 11)
     # XY moves before the plunge and after the retract at the safe height
@@ -268,10 +272,6 @@ def test_z_moves_round_a_closed_loop_keep_their_place_in_program_order():
     assert moves[-1].kind == "rapid" and moves[-1].start[2] == 1.0
 
 
-def _close2(p, q):
-    return math.dist(p[:2], q[:2]) <= 1e-12
-
-
 def test_depth_passes_round_one_closed_contour_are_refused_naming_the_line():
     """A closed contour followed round twice with compensation on (a ramp to each
     depth, as LinuxCNC's useful-subroutines o200 does): the passes' offsets coincide
@@ -284,3 +284,17 @@ def test_depth_passes_round_one_closed_contour_are_refused_naming_the_line():
     with pytest.raises(GcodeError) as exc:
         compensate(parse(text).moves)
     assert exc.value.lineno == 10 and "followed round again" in str(exc.value)
+
+
+def test_compensated_moves_keep_their_blocks_path_mode():
+    """G61.1 (exact stop) acts on the planner through each move's path mode: the moves
+    compensation makes of a block carry the block's mode (they were all G64)."""
+    text = ("G21 G90 G17 F600\nG0 X-5 Y-5\nG61.1\nG42.1 D2 G1 X0 Y0\nG1 X10\nG64 G1 X20\n"
+            "G1 X20 Y10\nG1 X0 Y10\nG61.1 G1 X0 Y0\nG40 G1 X-5 Y-5\nM2\n")
+    prog = parse(text)
+    want = {m.lineno: m.path_mode for m in prog.moves}
+    res = compensate(prog.moves)
+    assert {m.lineno for m in res.moves} <= set(want)
+    for m in res.moves:
+        assert m.path_mode == want[m.lineno], (m.lineno, m.path_mode)
+    assert {m.path_mode for m in res.moves} == {"G61.1", "G64"}

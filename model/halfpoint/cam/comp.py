@@ -1226,6 +1226,7 @@ def compensate(moves: list[Move], window: int = 5, strict: bool = False) -> Comp
             warnings.append(f"{line_ranges(skipped)}: skipped, the tool (radius {r:g} mm) "
                             "cannot follow the contour there")
             skipped_all += skipped
+        first = len(result)
         result += out
         last = out[-1].end
         for ev in st.stray:
@@ -1243,6 +1244,12 @@ def compensate(moves: list[Move], window: int = 5, strict: bool = False) -> Comp
             else:
                 result.append(Move(x.kind, last, x.end, x.lineno, x.feed))
             k += 1
+        # the moves made of a block keep its path mode (G61.1 stops after each)
+        modes = {m.lineno: (m.path_mode, m.path_tolerance, m.naive_tolerance)
+                 for m in (entry, *contour, exit_move) if m is not None}
+        for mv in result[first:]:
+            if mv.lineno in modes:
+                mv.path_mode, mv.path_tolerance, mv.naive_tolerance = modes[mv.lineno]
     return CompResult(result, warnings, skipped_all)
 
 
