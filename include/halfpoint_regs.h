@@ -193,7 +193,7 @@
 #define HALFPOINT_E_ARC_END 5u
 /* no profile in force for this motion, or one of the other kind */
 #define HALFPOINT_E_PROFILE 6u
-/* profile fields break the rules (v_exit, accel, d_stop, d_exit) */
+/* profile fields break the rules (v_exit, accel, d_stop, d_exit, power) */
 #define HALFPOINT_E_PROFILE_FIELD 7u
 /* helix delta exceeds the arc's move count */
 #define HALFPOINT_E_HELIX 8u

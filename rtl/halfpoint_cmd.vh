@@ -79,6 +79,10 @@
 `define HALFPOINT_CMD_PROFILE_D_EXIT_WIDTH    54
 `define HALFPOINT_CMD_PROFILE_D_STOP_LSB      202
 `define HALFPOINT_CMD_PROFILE_D_STOP_WIDTH    54
+`define HALFPOINT_CMD_PROFILE_SET_POWER_LSB   9
+`define HALFPOINT_CMD_PROFILE_SET_POWER_WIDTH 1
+`define HALFPOINT_CMD_PROFILE_POWER_LSB       15
+`define HALFPOINT_CMD_PROFILE_POWER_WIDTH     17
 
 // output fields (unsigned; spec/outputs.py gives their meaning)
 `define HALFPOINT_CMD_OUTPUT_POWER_LSB        32
@@ -109,7 +113,7 @@
     256'h00000000000000000000000000000000000000000000000000000000ff88fef0
 //   of a profile command
 `define HALFPOINT_CMD_RESERVED_PROFILE \
-    256'h00000000000000000000000000000000000000000000000000000000fffffff0
+    256'h0000000000000000000000000000000000000000000000000000000000007df0
 //   of an output command
 `define HALFPOINT_CMD_RESERVED_OUTPUT \
     256'hffffffffffffffffffffffffffffffffffffffffffffffffff800000fffffff0
@@ -130,7 +134,7 @@
 `define HALFPOINT_E_ARC_END                   4'd5
 //   no profile in force for this motion, or one of the other kind
 `define HALFPOINT_E_PROFILE                   4'd6
-//   profile fields break the rules (v_exit, accel, d_stop, d_exit)
+//   profile fields break the rules (v_exit, accel, d_stop, d_exit, power)
 `define HALFPOINT_E_PROFILE_FIELD             4'd7
 //   helix delta exceeds the arc's move count
 `define HALFPOINT_E_HELIX                     4'd8

@@ -35,7 +35,9 @@
 // head until everything before it has moved (nothing in flight, both units
 // idle, the move and profile queues empty, the profile stage idle), then loads
 // halfpoint_outputs at that edge; abort and a stop at rest switch the outputs
-// off.
+// off.  A PROFILE may carry a power (set_power): the output stage takes it at
+// the edge the profile stage takes that segment, with no stop (laser power
+// changing with the motion, as grbl's laser mode does with S words).
 //
 // hold (level) decelerates along the path to rest and waits; releasing it
 // accelerates back to the plan.  stop (level) decelerates to rest; an edge at
@@ -186,9 +188,12 @@ module halfpoint_core #(
     localparam integer INDEX_W = $clog2(DEPTH);         // queue index width
     localparam integer CODE_W = `HALFPOINT_ERR_CODE_BITS;
     // profile fields: distances are DW bits; a profile is PROFILE_W bits,
-    // {d_stop, d_exit, line_cost[17:0], accel[33:0], v_exit[31:0], v_cruise[31:0]}
+    // {power, set_power, d_stop, d_exit, line_cost[17:0], accel[33:0], v_exit[31:0],
+    // v_cruise[31:0]}, the power's two fields from POWER_AT on
     localparam integer DW = W + `HALFPOINT_PROFILE_DISTANCE_EXTRA;
-    localparam integer PROFILE_W = 116 + 2 * DW;
+    localparam integer POWER_W = `HALFPOINT_CMD_PROFILE_POWER_WIDTH;
+    localparam integer POWER_AT = 116 + 2 * DW;
+    localparam integer PROFILE_W = POWER_AT + 1 + POWER_W;
 
     // ------------------------------------------------------------------
     // Decode at the queue's input
@@ -321,10 +326,16 @@ module halfpoint_core #(
     // d_exit < 2^DW; then d_stop <= d_exit < 2^DW follows from the compare of
     // the whole fields
     wire          profile_d_exit_fits = (profile_d_exit_field >> DW) == 0;
+    // the power the segment's outputs take with it (laser mode): at most 100 %,
+    // and 0 unless set_power
+    wire          profile_set_power = cmd[`HALFPOINT_CMD_PROFILE_SET_POWER_LSB];
+    wire [POWER_W-1:0] profile_power = cmd[`HALFPOINT_CMD_PROFILE_POWER_LSB +: POWER_W];
+    wire          profile_power_ok = (profile_power <= `HALFPOINT_OUTPUT_POWER_FULL) &&
+                                     (profile_set_power || (profile_power == {POWER_W{1'b0}}));
     wire          profile_rules_ok = (profile_accel != 34'd0) &&
                                      (profile_v_exit <= profile_v_cruise) &&
                                      (profile_d_stop_field <= profile_d_exit_field) &&
-                                     profile_d_exit_fits;
+                                     profile_d_exit_fits && profile_power_ok;
 
     wire is_line    = (opcode == `HALFPOINT_OP_LINE);
     wire is_arc_cw  = (opcode == `HALFPOINT_OP_ARC_CW);
@@ -363,8 +374,9 @@ module halfpoint_core #(
     localparam integer PAYLOAD_W = (MOTION_W > PROFILE_W) ? MOTION_W : PROFILE_W;
     localparam integer FLAGS_W   = 11;
     localparam integer ENTRY_W   = PAYLOAD_W + FLAGS_W;
-    wire [PROFILE_W-1:0] in_profile = {profile_d_stop, profile_d_exit, profile_line_cost,
-                                       profile_accel, profile_v_exit, profile_v_cruise};
+    wire [PROFILE_W-1:0] in_profile = {profile_power, profile_set_power, profile_d_stop,
+                                       profile_d_exit, profile_line_cost, profile_accel,
+                                       profile_v_exit, profile_v_cruise};
     wire [PAYLOAD_W-1:0] in_payload =
         is_profile ? {{(PAYLOAD_W-PROFILE_W){1'b0}}, in_profile}
         : is_output ? {{(PAYLOAD_W-OUTPUT_W){1'b0}}, in_output}
@@ -893,6 +905,8 @@ module halfpoint_core #(
         .speed           (speed),
         .take            (stage_take),
         .take_v_cruise   (next_profile[31:0]),
+        .take_set_power  (next_profile[POWER_AT]),
+        .take_power      (next_profile[POWER_AT + 1 +: POWER_W]),
         .spindle_enable  (spindle_enable),
         .spindle_reverse (spindle_reverse),
         .pwm             (spindle_pwm),

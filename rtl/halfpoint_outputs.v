@@ -15,7 +15,9 @@
 // load (pulse): the settings registers take load_* (a power above 65536 is
 // taken as 65536).  off (level): every setting, the duty, pwm and the pending
 // result are cleared at the edge; off wins over load.  take (pulse): the
-// cruise register takes take_v_cruise.
+// cruise register takes take_v_cruise and, with take_set_power, the power
+// register take_power (a segment's PROFILE carrying it: laser power that
+// changes with the motion, not at rest); a load at the same edge wins.
 //
 // PWM: a PWM_BITS-bit counter runs freely (period 2^PWM_BITS clocks).  The duty
 // register (0..2^PWM_BITS) takes the unit's result at the wrap, so each period
@@ -71,6 +73,10 @@ module halfpoint_outputs #(
     // a new segment: its cruise speed, BLU per clock x 2^32
     input  wire                take,
     input  wire [31:0]         take_v_cruise,
+    // with take: the power register takes take_power (as load_power; a load at
+    // the same edge wins), the power the segment's PROFILE carries
+    input  wire                take_set_power,
+    input  wire [16:0]         take_power,
 
     /*
      * Pins (registered)
@@ -107,12 +113,15 @@ module halfpoint_outputs #(
     reg  [P:0]   power_q;
     reg  [31:0]  cruise_q;
 
+    // the power loaded at this edge: an OUTPUT's, else the taken segment's
+    wire         take_power_now = take && take_set_power;
+    wire [16:0]  new_power = load ? load_power : take_power;
     // a power of 65536 or more is full power; the bits below 2^(16-P) are dropped
-    wire [P:0]   load_power_top = load_power[16] ? {1'b1, {P{1'b0}}}
-                                                 : {1'b0, load_power[15:16-P]};
+    wire [P:0]   new_power_top = new_power[16] ? {1'b1, {P{1'b0}}}
+                                               : {1'b0, new_power[15:16-P]};
     generate
         if (P < 16) begin : g_power_unused
-            wire unused_power_low = ^load_power[15-P:0];
+            wire unused_power_low = ^new_power[15-P:0];
         end
     endgenerate
     // the enable setting after this edge (the pwm register's gate)
@@ -134,7 +143,9 @@ module halfpoint_outputs #(
             dynamic_q <= load_dynamic;
             mist_q    <= load_mist;
             flood_q   <= load_flood;
-            power_q   <= load_power_top;
+            power_q   <= new_power_top;
+        end else if (take_power_now) begin
+            power_q   <= new_power_top;
         end
     end
 

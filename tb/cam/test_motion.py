@@ -23,7 +23,6 @@ from halfpoint.cam.motion import Pause, build_motion, core_config, run_clocked, 
 from halfpoint.cam.planner import junction_speed_sqr
 from halfpoint.cam.quant import quantise
 from halfpoint.cam.run import move_costs, plan_items_compensated, run_program
-from halfpoint.cam.summary import plan_items
 from halfpoint.spec import encoding as enc
 from halfpoint.spec import profile as pf
 
@@ -34,7 +33,7 @@ SIM = mc.load(EX / "machine_sim.toml")
 def _plan(text: str, machine=SIM):
     prog = parse(text)
     q = quantise(prog.moves, machine.blu)
-    return q, build_motion(q, plan_items(prog), machine)
+    return q, build_motion(q, plan_items_compensated(prog, prog.moves, machine), machine)
 
 
 def _run(tmp_path, text: str, holds=(), execute=None):

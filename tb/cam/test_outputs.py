@@ -1,12 +1,14 @@
 # SPDX-License-Identifier: Apache-2.0
 """Spindle, laser and coolant on the host: the machine file's [spindle] table, S to PWM
 power, the OUTPUT commands in program order (issue 14, item 3), and programs with them
-through the core model.
+through the core model; laser mode's power carried with the motion (the PROFILEs'
+power, no stop at an S word or a G0).
 
 The core side (the dispatcher holding an OUTPUT until everything before it has moved,
 the output stage's PWM) is tested clock by clock in tb/halfpoint_core and
 tb/halfpoint_outputs; here: what the host sends, and that the model runs it with the
-motion before each change ending at rest.
+motion before each change ending at rest, and in laser mode the power switching at a
+segment boundary with the motion running.
 """
 
 from __future__ import annotations
@@ -18,8 +20,9 @@ import pytest
 
 from halfpoint.cam import machine as mc
 from halfpoint.cam.gcode import parse
-from halfpoint.cam.motion import Pause, build_motion, core_config, run_clocked, run_model
-from halfpoint.cam.planner import Dwell, OutputChange
+from halfpoint.cam.motion import (Feeder, Pause, build_motion, core_config, run_clocked,
+                                  run_model)
+from halfpoint.cam.planner import Dwell, OutputChange, PowerChange, estimate_time, plan
 from halfpoint.cam.quant import quantise
 from halfpoint.cam.run import output_settings, plan_items_compensated, run_program
 from halfpoint.spec import encoding as enc
@@ -113,15 +116,210 @@ def test_output_changes_stand_before_their_moves():
         prog, prog.moves))
 
 
+def _shape(items) -> list:
+    """OUTPUTs with their settings (power, enable, reverse, laser, dynamic, mist, flood),
+    power changes with their power, and the moves' kinds."""
+    return [("out", it.settings) if isinstance(it, OutputChange) else
+            ("power", it.power) if isinstance(it, PowerChange) else it.kind for it in items]
+
+
 def test_laser_mode_switches_the_laser_off_for_rapids():
     text = "G21 G90 F600000\nM4 S1000\nG0 X1\nG1 X2\nG1 X3\nG0 X4\nG1 Y1\nM5\nM2\n"
     _, items = _items(text, _sim(laser_mode=True))
-    seq = [("out", it.settings[:5]) if isinstance(it, OutputChange) else it.kind for it in items]
-    on, off = (FULL, 1, 0, 1, 1), (0, 0, 0, 1, 0)
-    # M4 then G0: nothing to send before the rapid (the laser is off already); changes
-    # with no move between them are one change
-    assert seq == ["rapid", ("out", on), "line", "line", ("out", off), "rapid", ("out", on),
-                   "line", ("out", (FULL, 0, 0, 1, 0))]
+    # M4 is an OUTPUT (at rest: the program starts there); the G0s do not stop: the
+    # laser stays enabled and the rapids carry power 0 in their PROFILEs, the cuts S
+    assert _shape(items) == [("out", (FULL, 1, 0, 1, 1, 0, 0)), ("power", 0), "rapid",
+                             ("power", FULL), "line", "line", ("power", 0), "rapid",
+                             ("power", FULL), "line", ("out", (FULL, 0, 0, 1, 0, 0, 0))]
+
+
+# --- laser mode: the power travels with the motion ----------------------------------------
+
+RASTER_ROWS, RASTER_COLUMNS = 4, 5
+
+
+def _raster(s_words: bool) -> str:
+    """A LightBurn-style raster: M4 at the top, a G0 to the start of each row, then a G1
+    per pixel (each with its own S when ``s_words``), rows back and forth, M5 at the end."""
+    out = ["G21 G90", "M4 S1000" if not s_words else "M4", "G1 F30000"]
+    for r in range(RASTER_ROWS):
+        cols = range(RASTER_COLUMNS) if r % 2 == 0 else range(RASTER_COLUMNS - 1, -1, -1)
+        out.append(f"G0 X{0 if r % 2 == 0 else RASTER_COLUMNS} Y{r * 0.5}")
+        for c in cols:
+            x = c + 1 if r % 2 == 0 else c
+            out.append(f"G1 X{x}" + (f" S{_raster_s(r, c)}" if s_words else ""))
+    return "\n".join(out + ["M5", "G0 X0 Y0", "M2"]) + "\n"
+
+
+def _raster_s(r: int, c: int) -> int:
+    return 100 + 150 * ((3 * r + 2 * c) % 7)            # 100 .. 1000, never twice in a row
+
+
+# the sim machine with slow accelerations: a stop costs far more than a pixel's cruise,
+# so a stop at every S word shows in the run time (as on a real machine)
+LASER = _sim(laser_mode=True, axes=tuple(replace(a, max_accel_mm_s2=200_000.0)
+                                         for a in SIM.axes))
+
+
+def _motion(text: str, machine):
+    prog, items = _items(text, machine)
+    return prog, build_motion(quantise(prog.moves, machine.blu), items, machine)
+
+
+def _decoded(mp) -> list:
+    return [enc.decode(it) for it in mp.items]
+
+
+def test_a_laser_raster_runs_through_its_s_words(tmp_path):
+    _, mp = _motion(_raster(True), LASER)
+    _, items = _items(_raster(True), LASER)
+    # no stop between the first cut and the last: only power changes there
+    cuts = [k for k, it in enumerate(items) if getattr(it, "kind", "") == "line"]
+    between = items[cuts[0]:cuts[-1]]
+    assert not any(isinstance(it, (Dwell, OutputChange)) for it in between)
+    # a new power at every cut after the first (no two S in a row are the same) and 0
+    # at every G0 between rows
+    assert sum(isinstance(it, PowerChange) for it in between) == \
+        RASTER_ROWS * RASTER_COLUMNS - 1 + RASTER_ROWS - 1
+    # the command stream: OUTPUTs for M4 (first) and M5 (before the last G0), CONT on
+    # every motion command in between, and every PROFILE carries its move's power (0 on
+    # the G0s)
+    d = _decoded(mp)
+    ops = [x["opcode"] for x in d]
+    assert [k for k, op in enumerate(ops) if op == enc.OP_OUTPUT] == [0, len(ops) - 3]
+    motion = [k for k, op in enumerate(ops) if op == enc.OP_LINE]
+    assert all(d[k]["cont"] for k in motion[:-2])       # the last G0 follows the M5
+    want = []
+    for m in (c.move for c in mp.commands):
+        if m.kind == "rapid":
+            want.append(0)
+        else:
+            row, x = round(m.end[1] / 0.5), round(m.end[0])
+            col = x - 1 if row % 2 == 0 else x
+            want.append(round(FULL * _raster_s(row, col) / LASER.spindle_max))
+    assert [c.profile.power for c in mp.commands] == want
+    assert all(d[k - 1]["set_power"] == 1 and d[k - 1]["power"] == p
+               for k, p in zip(motion, want))
+    assert [c.profile.set_power for c in mp.commands] == [1] * len(want)
+    # the planner plans through a PowerChange (no stop, no time), as if it were not there
+    segs = plan(items, LASER)
+    bare = plan([it for it in items if not isinstance(it, PowerChange)], LASER)
+    assert [s for s in segs if not isinstance(s, PowerChange)] == bare
+    assert estimate_time(segs) == estimate_time(bare)
+    # the run makes the same moves at the same cycles as the raster without S words (one
+    # power for all), in laser mode and as a spindle program (stops at M4 and M5 only)
+    runs = []
+    for text, machine in ((_raster(True), LASER), (_raster(False), LASER),
+                          (_raster(False), replace(LASER, laser_mode=False))):
+        f = tmp_path / "raster.ngc"
+        f.write_text(text)
+        res = run_program(str(f), machine=machine)
+        assert not res.execution.errors
+        runs.append(res)
+    moves = [r.execution.moves for r in runs]
+    assert moves[0] == moves[1] == moves[2]
+    assert runs[0].execution.cycles == runs[2].execution.cycles
+    assert estimate_time(runs[0].motion.planned) == estimate_time(runs[2].motion.planned)
+
+
+def _clocked_outputs(items, config) -> list:
+    """Run ``items`` on the clock-by-clock core, recording each cycle's (path speed,
+    position, the output stage's power register, PWM duty)."""
+    from halfpoint.spec.core import CoreInputs, CoreModel
+    model = CoreModel(config.axes, config.width, config.depth, config.tw, config.div,
+                      config.move_depth, config.profile_depth, config.step_cfg())
+    model.clock(CoreInputs(rst=1))
+    feeder = Feeder(items)
+    rows, cycle = [], 0
+    while not feeder.done:
+        assert cycle < 200_000
+        o = model.outputs()
+        rows.append((o.speed, o.pos, model.out_stage.power, o.duty))
+        tvalid, tdata, hold = feeder.step(cycle, o)
+        model.clock(CoreInputs(tvalid=tvalid, tdata=tdata, hold=hold))
+        cycle += 1
+    assert not feeder.run.errors
+    return rows
+
+
+def test_the_power_switches_at_the_segment_boundary_with_the_motion_running():
+    # M3 (constant power) in laser mode, all along X: a cut at S1000, one at S500, a G0,
+    # a cut at S750; the path never stops between them
+    text = ("G21 G90 F120000\nM3 S1000\nG1 X1\nG1 X2 S500\nG0 X3\nG1 X4 S750\nM5\nM2\n")
+    machine = _sim(laser_mode=True)
+    _, mp = _motion(text, machine)
+    cfg = core_config(machine)
+    rows = _clocked_outputs(mp.items, cfg)
+    pwm_bits = 10                   # the core model's default
+    full = 1 << pwm_bits
+    blu = round(1 / machine.blu[0])
+    # the power register over the run, and where it changes
+    changes = [(k, rows[k - 1][2], rows[k][2]) for k in range(1, len(rows))
+               if rows[k][2] != rows[k - 1][2]]
+    # the M3 OUTPUT loads full power at rest; then each take of a new power
+    first, *takes = changes
+    assert first[1:] == (0, full) and rows[first[0]][0] == 0
+    assert [c[1:] for c in takes] == [(full, full // 2), (full // 2, 0), (0, 3 * full // 4)]
+    for (k, _, _), x in zip(takes, (1, 2, 3)):
+        # at the edge of the segment's last move, into the next one at speed
+        assert rows[k][1][0] == x * blu and rows[k - 1][1][0] == x * blu - 1
+        assert rows[k - 1][0] > 0 and rows[k][0] > 0
+    # no stop anywhere between the first move and the last
+    moving = [k for k in range(len(rows)) if 0 < rows[k][1][0] < 4 * blu]
+    assert all(rows[k][0] > 0 for k in range(moving[0], moving[-1]))
+    # the PWM duty follows at speed: S500's half power during the second cut
+    assert any(r[3] == full // 2 and r[0] > 0 and blu < r[1][0] < 2 * blu for r in rows)
+    assert run_model(mp.items, cfg).moves == run_clocked(mp.items, cfg).moves
+
+
+def _stops(mp) -> list:
+    """The X (mm) where the motion comes to rest: the end of every motion command
+    without CONT (an OUTPUT, a pause or the end follows) or with exit speed 0."""
+    d = _decoded(mp)
+    out = []
+    for k, x in enumerate(d):
+        if x["opcode"] == enc.OP_LINE and (not x["cont"] or d[k - 1]["v_exit"] == 0):
+            out.append(k)
+    ends = []
+    pos = 0
+    for k, x in enumerate(d):
+        if x["opcode"] == enc.OP_LINE:
+            pos += x["deltas"][0]
+            if k in out:
+                ends.append(round(pos * SIM.blu[0], 6))
+    return ends
+
+
+def test_laser_state_and_coolant_changes_still_stop():
+    # laser mode: M7, M3 -> M4 and M5 are OUTPUT commands at rest (as grbl syncs them);
+    # the S change on the second line is not
+    text = ("G21 G90 F120000\nM3 S1000\nG1 X1\nG1 X2 S500\nM7\nG1 X3\nM4\n"
+            "G1 X4 S300\nM5\nG1 X5\nM2\n")
+    machine = _sim(laser_mode=True)
+    _, items = _items(text, machine)
+    half, s300 = FULL // 2, round(0.3 * FULL)
+    assert _shape(items) == [
+        ("out", (FULL, 1, 0, 1, 0, 0, 0)), ("power", FULL), "line", ("power", half), "line",
+        ("out", (half, 1, 0, 1, 0, 1, 0)), "line", ("out", (half, 1, 0, 1, 1, 1, 0)),
+        ("power", s300), "line", ("out", (s300, 0, 0, 1, 0, 1, 0)), ("power", 0), "line"]
+    _, mp = _motion(text, machine)
+    assert _stops(mp) == [2.0, 3.0, 4.0, 5.0]
+    assert [c.profile.power for c in mp.commands] == [FULL, half, half, s300, 0]
+
+
+def test_an_s_change_stops_outside_laser_mode_only():
+    text = "G21 G90 F120000\nM3 S1000\nG1 X1\nG1 X2 S500\nG1 X3 S250\nM5\nM2\n"
+    # a spindle: each S is an OUTPUT at rest, and no PROFILE sets a power
+    _, items = _items(text, SIM)
+    assert not any(isinstance(it, PowerChange) for it in items)
+    _, mp = _motion(text, SIM)
+    assert _stops(mp) == [1.0, 2.0, 3.0]
+    assert all(c.profile.set_power == 0 == c.profile.power for c in mp.commands)
+    assert all(x["set_power"] == 0 for x in _decoded(mp) if x["opcode"] == enc.OP_PROFILE)
+    # the same program in laser mode runs through: a stop only at the end
+    _, mp = _motion(text, _sim(laser_mode=True))
+    assert _stops(mp) == [3.0]
+    assert [c.profile.power for c in mp.commands] == [FULL, FULL // 2, FULL // 4]
 
 
 def test_output_commands_end_the_motion_before_them_at_rest():

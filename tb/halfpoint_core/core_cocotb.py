@@ -497,6 +497,55 @@ async def outputs_in_program_order(dut):
     assert bench.output_pins[-1][1:6] == (0, 0, 0, 0, 0)
 
 
+@cocotb.test()
+async def power_with_the_motion(dut):
+    """Laser power carried by the PROFILEs (set_power): an OUTPUT switches the laser on
+    (laser mode, constant power) at rest, then lines run through junctions above 0,
+    each with its own power (0, 100 %, random; some PROFILEs without set_power keep
+    the one before): the speed never falls to 0 between the first and the last move
+    (no stop at a power change) and in every PWM period inside a segment (two
+    periods after its first move) the PWM is high for that segment's power.  Every
+    clock compared with the model besides."""
+    bind(dut)
+    rng = random.Random(SEED + 11)
+    bench = new_bench(dut, cfg=[StepCfg(1, 0, 0, 0)] * NA, seed=SEED + 11)
+    await bench.start()
+    full = enc.OUTPUT_POWER_FULL
+    period = 1 << PWM_BITS
+    lines = [random_line(rng, NA, scale=600) for _ in range(14)]
+    lines = [c for c in lines if move_count(c, NA, W) > 150][:10]
+    powers = [full // 2, 0, full, None, rng.randrange(full + 1), None, full // 8, 17,
+              rng.randrange(full + 1), 0][:len(lines)]
+    prog = [enc.encode_output(full // 4, 1, 0, 1, 0)] + profiled(
+        lines, NA, W, DIV, v_cruise=lambda k: speed(rng, 0.2, 0.45),
+        accel=lambda k: accel(rng), junction=ONE, power=lambda k: powers[k])
+    await bench.send(prog)
+    await bench.drain()
+    check_end(bench, prog)
+    assert not bench.errors
+    # the power in force for each segment, and the cycle of its first move
+    expected, power = [], full // 4
+    for p in powers:
+        power = power if p is None else p
+        expected.append(power >> (16 - PWM_BITS))
+    firsts, total = [], 0
+    for c in lines:
+        firsts.append(total)
+        total += move_count(c, NA, W)
+    moves_at = [pins[0] for pins in bench.output_pins]      # moves made before each cycle
+    starts = [moves_at.index(m + 1) for m in firsts] + [moves_at.index(total)]
+    for t in range(starts[0], starts[-1]):
+        assert bench.speeds[t] > 0, f"the motion stopped at cycle {t}"
+    # a period's duty comes from the power sampled a period or two before it
+    for k, want in enumerate(expected):
+        first = -(-(starts[k] + 2 * period) // period) * period
+        periods = range(first, starts[k + 1] - 2 * period + 1, period)
+        assert len(periods) >= 2, f"segment {k} too short to measure"
+        for p0 in periods:
+            high = sum(bench.output_pins[t][5] for t in range(p0, p0 + period))
+            assert high == want, f"segment {k}, period at {p0}: {high} high, not {want}"
+
+
 def decode_cases():
     """Commands that reach every decode check bit by bit (for the core's own
     mutants): each reserved bit of each opcode alone, each bit of the deltas of
@@ -550,6 +599,14 @@ def decode_cases():
     full = enc.OUTPUT_POWER_FULL
     cmds += [enc.encode_output(p, 1) for p in (full, full + 1, full - 1)]
     cmds += [enc.encode_output(full | (1 << b), 1) for b in range(16)]
+    # a PROFILE's power: around 100 %, each bit alone with and without set_power, each
+    # bit above 100 %
+    cmds += [enc.encode_profile(ONE // 8, 0, 1, 0, 0, 0, 1, p)
+             for p in (full, full + 1, full - 1, (1 << 17) - 1)]
+    for b in range(17):
+        cmds += [enc.encode_profile(ONE // 8, 0, 1, 0, 0, 0, s, 1 << b) for s in (0, 1)]
+    cmds += [enc.encode_profile(ONE // 8, 0, 1, 0, 0, 0, 1, full | (1 << b))
+             for b in range(16)]
     return cmds
 
 

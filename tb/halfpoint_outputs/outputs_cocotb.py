@@ -4,7 +4,8 @@
 
 Run by ``test_outputs_rtl.py``; PWM_BITS is read from the design.  Stimulus: random
 loads (power 0, 65536, above 65536, random; every mix of the flags), cruise speeds
-taken at random clocks (0, tiny, random), a speed that ramps and jumps (to 0, to just
+taken at random clocks (0, tiny, random; half of them with a segment's power, the
+same choice of values as a load's), a speed that ramps and jumps (to 0, to just
 below, at and above the cruise speed, to the top of its range), ``off`` levels of a
 few clocks (with a load at the same edge half of the time) and one reset.  Where the
 unit is idle (counter 2P + 2 .. 2^P - 3, every flag clear) the counter is set
@@ -82,6 +83,13 @@ class Stimulus:
                                           rng.randrange(1, 1 << rng.randint(1, 32))])
         elif rng.random() < 0.02:
             i.take_v_cruise = rng.randrange(1 << 32)         # not taken
+        # a segment's power with the take (half of them), or offered without one
+        if (i.take and rng.random() < 0.5) or rng.random() < 0.01:
+            i.take_set_power = 1
+            i.take_power = rng.choice([0, 65536, 65537, (1 << 17) - 1, rng.randrange(65537),
+                                       rng.randrange(65537), rng.randrange(1 << 17)])
+        elif rng.random() < 0.02:
+            i.take_power = rng.randrange(1 << 17)            # without set_power: ignored
         if self.off_left == 0 and rng.random() < self.rate / 4:
             self.off_left = rng.randint(1, 5)
         if self.off_left:
@@ -165,6 +173,9 @@ async def pins_and_registers_match_the_model(dut):
         seen["off"] += inputs.off
         seen["off with load"] += int(inputs.off and inputs.load)
         seen["load"] += inputs.load
+        seen["power taken"] += int(inputs.take and inputs.take_set_power and not inputs.off)
+        seen["power taken, load wins"] += int(inputs.take and inputs.take_set_power
+                                              and inputs.load and not inputs.off)
         target = stimulus.jump() if not inputs.rst else None
         if target is not None:
             dut.counter_q.value = target
@@ -174,7 +185,8 @@ async def pins_and_registers_match_the_model(dut):
         model.clock(inputs)
     dut._log.info("PWM_BITS %d, %d clocks: %s", PWM_BITS, CLOCKS, dict(sorted(seen.items())))
     wanted = ["dynamic, part", "dynamic, full", "laser at rest", "laser, constant",
-              "spindle", "disabled", "pwm rising", "pwm falling", "off", "off with load"]
+              "spindle", "disabled", "pwm rising", "pwm falling", "off", "off with load",
+              "power taken"]
     missing = [k for k in wanted if seen[k] < 2]
     assert not missing, f"never (or once) seen: {missing}; seen {dict(seen)}"
 

@@ -187,6 +187,39 @@ def test_laser_at_rest_is_off_and_follows_the_speed():
         assert stage.duty == want
 
 
+def test_a_segments_power_is_taken_with_it_and_a_load_wins():
+    """A take with take_set_power loads the power register as a load would (clamped at
+    65536, its low bits dropped); without the flag, or without the take, the power is
+    kept; a load at the same edge wins; off wins over both."""
+    p = 10
+    c = 1 << 20
+    stage = OutputStage(p)
+    stage.clock(OutputInputs(load=1, load_power=65536, load_enable=1, load_laser=1,
+                             take=1, take_v_cruise=c))
+    assert stage.power == 1 << p
+    stage.clock(OutputInputs(take=1, take_v_cruise=c, take_set_power=1, take_power=16384))
+    assert stage.power == 256 and stage.enable and stage.laser     # the settings kept
+    stage.clock(OutputInputs(take=1, take_v_cruise=c, take_power=65536))    # no flag
+    stage.clock(OutputInputs(take_set_power=1, take_power=65536))           # no take
+    assert stage.power == 256
+    stage.clock(OutputInputs(take=1, take_set_power=1, take_power=(1 << 17) - 1))
+    assert stage.power == 1 << p                                    # above 65536: full
+    stage.clock(OutputInputs(take=1, take_set_power=1, take_power=63))
+    assert stage.power == 0                                         # below 2^(16 - P)
+    stage.clock(OutputInputs(load=1, load_power=32768, load_enable=1, take=1,
+                             take_set_power=1, take_power=65536))
+    assert stage.power == 512                                       # the load wins
+    stage.clock(OutputInputs(off=1, take=1, take_set_power=1, take_power=65536))
+    assert stage.power == 0
+    # the duty follows at the next sample (laser constant power, moving)
+    stage.clock(OutputInputs(load=1, load_power=65536, load_enable=1, load_laser=1))
+    stage.clock(OutputInputs(take=1, take_v_cruise=c, take_set_power=1, take_power=8192,
+                             speed=c << 6))
+    for _ in range(2 << p):
+        stage.clock(OutputInputs(speed=c << 6))
+    assert stage.duty == 128
+
+
 def test_bad_inputs_are_refused():
     stage = OutputStage(4)
     with pytest.raises(ValueError):
@@ -195,3 +228,5 @@ def test_bad_inputs_are_refused():
         stage.clock(OutputInputs(take=1, take_v_cruise=1 << 32))
     with pytest.raises(ValueError):
         stage.clock(OutputInputs(speed=-1))
+    with pytest.raises(ValueError):
+        stage.clock(OutputInputs(take=1, take_set_power=1, take_power=1 << 17))

@@ -4,9 +4,11 @@ the executors that run them (issue 13, items 3 and 6).
 
 ``build_motion(q, items, machine)`` takes the quantiser's output (``q.cmds``, with
 ``q.src`` naming the compensated ``Move`` behind each command) and ``items``, the
-same moves with the program's dwells (``planner.Dwell``) in program order, and
-returns a ``MotionPlan``: the command stream with a PROFILE before every motion
-command, and a ``Pause`` where a dwell is.
+same moves with the program's dwells (``planner.Dwell``), output changes
+(``planner.OutputChange``) and laser powers (``planner.PowerChange``) in program
+order, and returns a ``MotionPlan``: the command stream with a PROFILE before every
+motion command, a ``Pause`` where a dwell is and an OUTPUT command where an output
+change is.
 
 * Speeds come from the planner (``planner.plan`` over ``items`` with the machine:
   F, G0 at the axes' maximum speed, per-axis limits, junction deviation, lookahead).
@@ -37,9 +39,16 @@ command, and a ``Pause`` where a dwell is.
 * A dwell (G4 P seconds) is a ``Pause`` of round(seconds x clock_hz) clocks in
   program order: the executor stops feeding commands there until the core is idle,
   then waits those clocks.
-* An output change (``planner.OutputChange``: M3/M4/M5, S, M7/M8/M9) is an OUTPUT
-  command in program order; the motion before it ends at rest (the core runs it once
-  everything before it has moved).
+* An output change (``planner.OutputChange``: M3/M4/M5, M7/M8/M9, and S outside
+  laser mode) is an OUTPUT command in program order; the motion before it ends at rest
+  (the core runs it once everything before it has moved).
+* A power change (``planner.PowerChange``, laser mode: S, and 0 for a G0) is no
+  command and no stop: from the move after it on (in item order, until the next
+  one), every motion command's PROFILE has ``set_power`` 1 and its ``power``, so the
+  core's output stage takes that power when its profile stage takes the command's
+  segment, with the motion running.  Every command of one move (arc pieces,
+  correcting lines) carries that move's power.  Moves before the first power change
+  (all of them outside laser mode) have PROFILEs with ``set_power`` 0, as before.
 
 Executors (``run_model`` and ``run_clocked`` here; ``halfpoint.sim.engines`` has the
 RTL one; a faster model can take the same place) are functions ``(items, CoreConfig, holds) ->
@@ -54,7 +63,7 @@ Cycle 0 is the first cycle after reset.
 from __future__ import annotations
 
 import math
-from dataclasses import astuple, dataclass, field
+from dataclasses import astuple, dataclass, field, replace
 from fractions import Fraction
 
 from ..spec import encoding as enc
@@ -64,7 +73,8 @@ from ..spec.program import segment_moves
 from ..spec.stepgen import StepCfg
 from .gcode import GcodeError, Move
 from .machine import Machine, MachineError
-from .planner import Dwell, OutputChange, Segment, plan, plane_share, projected_limit
+from .planner import (Dwell, OutputChange, PowerChange, Segment, plan, plane_share,
+                      projected_limit)
 
 AXES = 3
 WIDTH = 32
@@ -93,7 +103,8 @@ class PlannedCommand:
     v_cruise: int               # the limits handed to plan_integer (field units)
     v_exit: int
     accel: int
-    profile: pf.ProfileParams   # what plan_integer made of them
+    profile: pf.ProfileParams   # what plan_integer made of them (with the move's power
+                                # in laser mode), as sent
 
 
 @dataclass
@@ -130,6 +141,19 @@ def build_motion(q, items, machine: Machine, width: int = WIDTH) -> MotionPlan:
         raise MachineError("clock_hz", str(exc), machine.source) from None
     blu = machine.blu[:AXES]
     bx = blu[0]
+    # the power in force for each move (laser mode's PowerChange items, which the
+    # planner plans through: they leave the plan)
+    power_of = {}               # id(move) -> power
+    power = None
+    kept = []
+    for it in items:
+        if isinstance(it, PowerChange):
+            power = it.power
+            continue
+        if power is not None and not isinstance(it, Dwell):
+            power_of[id(it)] = power
+        kept.append(it)
+    items = kept
     planned = plan(items, machine)
     seg_of = {id(it): sg for it, sg in zip(items, planned) if isinstance(sg, Segment)}
     order = {}                  # id(move) -> its index among the moves
@@ -233,6 +257,8 @@ def build_motion(q, items, machine: Machine, width: int = WIDTH) -> MotionPlan:
         for dw in pauses_before[k]:
             out_items.append(_pause(dw, clock))
         p = profiles[k]
+        if id(q.src[k]) in power_of:
+            p = replace(p, set_power=1, power=power_of[id(q.src[k])])
         try:
             p.check(width)
         except pf.ProfileRangeError as exc:

@@ -2,11 +2,13 @@
 """Lookahead planner: moves in mm -> one trapezoidal speed profile per motion block.
 
 Input: the parser's ``Move`` list (``halfpoint.cam.gcode``; absolute mm, F in
-mm/min, G20 already converted) with ``Dwell`` items (G4 P seconds) in program
-order.  Output (``plan``): the same items in the same order, each ``Move`` as a
+mm/min, G20 already converted) with ``Dwell`` items (G4 P seconds; an
+``OutputChange`` is one of 0 s) and ``PowerChange`` items in program order.
+Output (``plan``): the same items in the same order, each ``Move`` as a
 ``Segment`` (length, entry / cruise / exit path speed in mm/s, acceleration in
 mm/s^2, the times of the accelerate / cruise / decelerate phases and where
-deceleration starts), each ``Dwell`` kept as it is: a timed pause at rest.
+deceleration starts), each ``Dwell`` kept as it is: a timed pause at rest; each
+``PowerChange`` kept as it is and planned through: no stop, no time.
 
 Rules:
 
@@ -104,11 +106,25 @@ class Dwell:
 @dataclass(frozen=True)
 class OutputChange(Dwell):
     """A change of the spindle, laser or coolant outputs (M3/M4/M5, S, M7/M8/M9; in laser
-    mode also around G0): the core's OUTPUT command, ``settings`` being
-    ``encoding.encode_output``'s arguments.  The core runs it once everything before it
-    has moved, so the motion before it ends at rest, as before a dwell of 0 s."""
+    mode S alone is not one, see ``PowerChange``): the core's OUTPUT command,
+    ``settings`` being ``encoding.encode_output``'s arguments.  The core runs it once
+    everything before it has moved, so the motion before it ends at rest, as before a
+    dwell of 0 s."""
 
     settings: tuple = ()
+
+
+@dataclass(frozen=True)
+class PowerChange:
+    """Laser mode: from the next motion on, its PROFILEs carry this spindle / laser
+    ``power`` (PWM duty, 65536 = 100 %; ``encoding.encode_profile``'s ``set_power`` and
+    ``power``), so an S change, or the laser's gate around a G0, travels with the motion
+    instead of stopping it.  Not a ``Dwell``: ``plan`` keeps it in place and plans
+    through it (no stop, no time); ``cam.motion.build_motion`` takes these items out
+    before planning and gives their power to the PROFILEs of the moves after them."""
+
+    power: int
+    lineno: int
 
 
 @dataclass
@@ -299,15 +315,18 @@ def junction_speed_sqr(u_in, u_out, machine: Machine, len_in: float = math.inf,
 # --- planning ---------------------------------------------------------------------------------
 
 def plan(items, machine: Machine) -> list:
-    """Plan a program: ``items`` is a list of ``Move`` and ``Dwell`` in program order.
-    Returns a list of the same length and order, each ``Move`` replaced by its
-    ``Segment``, each ``Dwell`` kept."""
+    """Plan a program: ``items`` is a list of ``Move``, ``Dwell`` and ``PowerChange`` in
+    program order.  Returns a list of the same length and order, each ``Move`` replaced
+    by its ``Segment``, each ``Dwell`` (a stop) and ``PowerChange`` (not a stop) kept."""
     out: list = []
     chain: list[Segment] = []           # segments of non-zero length, in order
     stop_before: list[bool] = []        # junction before chain[i] is a stop (dwell)
     zero_at: list[tuple[Segment, int]] = []   # zero-length segments, junction index
     pending_stop = True                 # the program starts at rest
     for item in items:
+        if isinstance(item, PowerChange):
+            out.append(item)
+            continue
         if isinstance(item, Dwell):
             if not (item.seconds >= 0 and math.isfinite(item.seconds)):
                 raise GcodeError(item.lineno, f"dwell time must be >= 0 s, got {item.seconds!r}")
@@ -315,7 +334,8 @@ def plan(items, machine: Machine) -> list:
             out.append(item)
             continue
         if not isinstance(item, Move):
-            raise TypeError(f"the planner takes Move and Dwell items, got {type(item).__name__}")
+            raise TypeError(f"the planner takes Move, Dwell and PowerChange items, got "
+                            f"{type(item).__name__}")
         seg = _segment(item, machine)
         out.append(seg)
         if seg.length == 0.0:
@@ -378,6 +398,8 @@ def estimate_time(planned) -> float:
     """Planned run time of a ``plan`` result, seconds (motion and dwells)."""
     total = 0.0
     for item in planned:
+        if isinstance(item, PowerChange):
+            continue
         total += item.seconds if isinstance(item, Dwell) else item.duration
     return total
 

@@ -32,7 +32,7 @@ from .gcode import PLANE_AXES, Move, load_tool_table, parse
 from .geom import Line, Spiral
 from .machine import Machine, check_program, load_default
 from .motion import Execution, MotionPlan, build_motion, core_config, max_clocks_for, run_model
-from .planner import Dwell, OutputChange, Segment, estimate_time
+from .planner import Dwell, OutputChange, PowerChange, Segment, estimate_time
 from .quant import quantise
 from .summary import Summary, check_travel, summarise
 
@@ -114,29 +114,43 @@ def output_settings(machine: Machine, on: bool, cw: bool, speed: float, mist: bo
 
 def plan_items_compensated(prog, moves, machine: Machine | None = None) -> list:
     """The compensated ``moves`` with the program's dwells (``planner.Dwell``) and, with
-    a ``machine``, its spindle and coolant changes (``planner.OutputChange``; in laser
-    mode the laser also goes off for each G0 and on again after it) in program order.
-    An event stands before the programmed move index ``before``; each compensated move
-    is traced back to its programmed move (the same object, else the next programmed
-    move of its line, in order), and the event goes before the first compensated move
-    from that index on."""
+    a ``machine``, its spindle and coolant changes (``planner.OutputChange``) in program
+    order.  An event stands before the programmed move index ``before``; each
+    compensated move is traced back to its programmed move (the same object, else the
+    next programmed move of its line, in order), and the event goes before the first
+    compensated move from that index on.
+
+    Laser mode (``machine.laser_mode``, grbl's ``$32``): only a change of the laser's
+    state (on / off, M3 constant / M4 dynamic) or of the coolant is an OutputChange (a
+    stop); the power travels with the motion: before a move that needs another power
+    than the last ``planner.PowerChange`` (the first move: any), a PowerChange of it,
+    0 for a G0 or with the laser off, else the duty of S.  So an S change and the G0s
+    run without stopping; during a G0 the laser stays enabled at duty 0, as in grbl."""
     kinds = (GcodeDwell, Spindle, Coolant) if machine is not None else (GcodeDwell,)
     events = sorted((e for e in prog.events if isinstance(e, kinds)), key=lambda e: e.before)
     if not events:
         return list(moves)
+    laser = machine is not None and machine.laser_mode
     state = {"on": False, "cw": True, "speed": 0.0, "mist": False, "flood": False}
     # the outputs as the core has them, and as it had them before the last item when
     # that is an OutputChange (changes with no move between them are merged into one)
     emitted = [output_settings(machine, **state)] if machine is not None else [None]
     before_last = [None]
+    power = [None]              # laser mode: the last PowerChange's power
     items: list = []
 
+    def same(a: tuple | None, b: tuple | None) -> bool:
+        """The same outputs (in laser mode the power aside: it travels with the motion)."""
+        if laser and a is not None and b is not None:
+            return a[1:] == b[1:]
+        return a == b
+
     def emit(settings: tuple, lineno: int) -> None:
-        if settings == emitted[0]:
+        if same(settings, emitted[0]):
             return
         if items and isinstance(items[-1], OutputChange):
             items.pop()
-            if settings == before_last[0]:
+            if same(settings, before_last[0]):
                 emitted[0] = settings
                 return
         else:
@@ -154,14 +168,17 @@ def plan_items_compensated(prog, moves, machine: Machine | None = None) -> list:
             state.update(mist=ev.mist, flood=ev.flood)
         emit(output_settings(machine, **state), ev.lineno)
 
-    def laser_gate(m) -> None:
-        """Laser mode: the laser is off for a G0 and on again for the next cut."""
-        if machine is None or not machine.laser_mode or not state["on"]:
+    def laser_power(m) -> None:
+        """Laser mode: the power ``m`` needs (0 for a G0 or with the laser off), with
+        the motion."""
+        if not laser:
             return
-        want = output_settings(machine, **state)
-        if m.kind == "rapid":
-            want = (0, 0) + want[2:4] + (0,) + want[5:]
-        emit(want, m.lineno)
+        want = 0
+        if state["on"] and m.kind != "rapid":
+            want = output_settings(machine, **state)[0]
+        if want != power[0]:
+            items.append(PowerChange(want, m.lineno))
+            power[0] = want
 
     where = {id(m): i for i, m in enumerate(prog.moves)}
     d, p = 0, 0
@@ -177,7 +194,7 @@ def plan_items_compensated(prog, moves, machine: Machine | None = None) -> list:
         while d < len(events) and events[d].before <= p:
             put(events[d])
             d += 1
-        laser_gate(m)
+        laser_power(m)
         items.append(m)
     for ev in events[d:]:
         put(ev)

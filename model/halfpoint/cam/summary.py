@@ -23,9 +23,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, replace
 
-from .gcode import (PLANE_AXES, Coolant, Dwell, GcodeError, Move, Pause, Spindle, ToolChange,
-                    arc_length, arc_sweep)
-from .planner import Dwell as PlannerDwell
+from .gcode import (PLANE_AXES, Dwell, GcodeError, Move, Pause, ToolChange, arc_length,
+                    arc_sweep)
 from .planner import estimate_time, plan
 
 AXIS_NAMES = "XYZ"
@@ -52,24 +51,6 @@ def move_box(m: Move) -> tuple[list[float], list[float]]:
         lo[a1], hi[a1] = min(lo[a1], y), max(hi[a1], y)
         k += 1
     return lo, hi
-
-
-def plan_items(program) -> list:
-    """The program's moves with its dwells (as ``planner.Dwell``) in program order, and a
-    stop of 0 s at each spindle or coolant change (the core changes its outputs at rest:
-    ``cam.run.plan_items_compensated``)."""
-    dwells = sorted((e if isinstance(e, Dwell) else Dwell(0.0, lineno=e.lineno,
-                                                          before=e.before)
-                     for e in program.events if isinstance(e, (Dwell, Spindle, Coolant))),
-                    key=lambda e: e.before)
-    items, k = [], 0
-    for i, m in enumerate(program.moves):
-        while k < len(dwells) and dwells[k].before <= i:
-            items.append(PlannerDwell(dwells[k].seconds, dwells[k].lineno))
-            k += 1
-        items.append(m)
-    items += [PlannerDwell(d.seconds, d.lineno) for d in dwells[k:]]
-    return items
 
 
 @dataclass
@@ -125,7 +106,11 @@ def summarise(program, machine) -> Summary:
         hi = [max(a, b) for a, b in zip(hi, mhi)]
     box = tuple(zip(lo, hi)) if program.moves else None
     dwells = [e for e in program.events if isinstance(e, Dwell)]
-    seconds = estimate_time(plan(plan_items(program), machine))
+    # the items `halfpoint run` plans (its stops: dwells, output changes; in laser mode
+    # not an S change alone), on the programmed moves; run.py imports this module
+    from .run import plan_items_compensated
+    seconds = estimate_time(plan(plan_items_compensated(program, program.moves, machine),
+                                 machine))
     return Summary(
         blocks=program.blocks, moves=moves,
         tool_changes=[(e.tool, e.lineno) for e in program.events if isinstance(e, ToolChange)],

@@ -90,7 +90,8 @@ def profile_fields_ok(p: pf.ProfileParams, width: int) -> bool:
     """The core's rules for a PROFILE's fields (else E_PROFILE_FIELD)."""
     top = 1 << pf.distance_bits(width)
     return (p.accel != 0 and p.v_exit <= p.v_cruise and p.d_stop <= p.d_exit
-            and p.d_exit < top)
+            and p.d_exit < top and p.power <= enc.OUTPUT_POWER_FULL
+            and (p.set_power or p.power == 0))
 
 
 def decode_for_core(cmd: int, axes: int, width: int):
@@ -306,7 +307,7 @@ class CoreModel:
         self.stage.clock(stage_in or pf.ProfileInputs(abort=1, override=i.override))
         for sg, c in zip(self.stepgens, self.cfg):
             sg.clock(c, StepInputs())
-        self._clock_outputs(None, True, speed, False, 0)
+        self._clock_outputs(None, True, speed, None)
         self.o_move = 0
         self.o_err = 0
 
@@ -430,9 +431,9 @@ class CoreModel:
         popped = self.moves[0] if w.pop else None
         self._clock_move_queue(w, push)
         speed = self.stage.outputs().v
-        v_cruise = self.profiles[0][0].v_cruise if w.take else 0
+        taken = self.profiles[0][0] if w.take else None
         self._clock_stage(sin, w, loading)
-        self._clock_outputs(head.output, False, speed, w.take, v_cruise)
+        self._clock_outputs(head.output, False, speed, taken)
         self._clock_stepgens(popped)
         self._clock_status(head, popped, w)
         return w
@@ -537,18 +538,21 @@ class CoreModel:
                     spindle_pwm=o.pwm, coolant_mist=o.coolant_mist,
                     coolant_flood=o.coolant_flood, duty=o.duty)
 
-    def _clock_outputs(self, load: OutputSettings | None, off: bool, speed: int, take,
-                       v_cruise: int) -> None:
+    def _clock_outputs(self, load: OutputSettings | None, off: bool, speed: int,
+                       taken: pf.ProfileParams | None) -> None:
         """The output stage's edge: ``load`` an OUTPUT's settings, ``off`` (abort or a
-        stop at rest), the profile stage's speed during the cycle, and the cruise
-        speed of the segment the stage takes at this edge."""
+        stop at rest), the profile stage's speed during the cycle, and the profile of
+        the segment the stage takes at this edge (its cruise speed, and its power when
+        it sets one)."""
         settings = load or OutputSettings()
+        take = taken or pf.ProfileParams(0, 0, 0)
         self.out_stage.clock(OutputInputs(
             load=int(load is not None), load_power=settings.power,
             load_enable=settings.enable, load_reverse=settings.reverse,
             load_laser=settings.laser, load_dynamic=settings.dynamic,
             load_mist=settings.mist, load_flood=settings.flood, off=int(off),
-            speed=speed, take=int(bool(take)), take_v_cruise=v_cruise))
+            speed=speed, take=int(taken is not None), take_v_cruise=take.v_cruise,
+            take_set_power=take.set_power, take_power=take.power))
 
     def _clock_status(self, head: HeadView, popped, w) -> None:
         """err / err_code (an arc's move count error wins over a reject at the

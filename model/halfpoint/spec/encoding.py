@@ -33,10 +33,12 @@ N (the host's encoder gives the exact count from ``spec.arc.arc_stop``), the
 helix steps beyond N are dropped, the steps short of |delta| are not made,
 and the core reports E_HELIX_COUNT at the arc's last move.
 
-PROFILE (opcode 4; word 0 has no flag) sets the velocity profile of the motion
-commands that follow it (``spec.profile.ProfileParams``; the host sends one
-before each motion command, with its planned speeds and distances): the fields
-after word 0, in bits
+PROFILE (opcode 4) sets the velocity profile of the motion commands that follow
+it (``spec.profile.ProfileParams``; the host sends one before each motion
+command, with its planned speeds and distances), and may carry the power of the
+spindle / laser output for the segments run under it (laser mode: power changes
+travel with the motion instead of waiting for rest, as grbl's laser mode does
+with S words): the fields, in bits
 
 ================  =====  =====  ==============================================
 field             lsb    bits   meaning (``spec.profile``'s fixed point)
@@ -51,6 +53,12 @@ d_exit            148     54    decelerate to v_exit from this distance into
                                 the segment, BLU x 2^16, < 2^(W + 19)
 d_stop            202     54    decelerate to rest from here if the next
                                 segment is not there yet (dry queue), <= d_exit
+set_power           9      1    the output stage's power takes ``power`` at the
+                                edge the profile stage takes this segment (the
+                                first move of the segment is made after it); 0:
+                                the power is left as it is
+power              15     17    PWM duty as in OUTPUT, 65536 = 100 %, <= 65536;
+                                0 unless set_power
 ================  =====  =====  ==============================================
 
 OUTPUT (opcode 5; word 0 has no flag) sets the spindle, laser and coolant outputs
@@ -119,7 +127,7 @@ ERR_TEXT = {
     E_ARC_RANGE: "arc circle does not fit the coordinate width",
     E_ARC_END: "arc end point is off the circle",
     E_PROFILE: "no profile in force for this motion, or one of the other kind",
-    E_PROFILE_FIELD: "profile fields break the rules (v_exit, accel, d_stop, d_exit)",
+    E_PROFILE_FIELD: "profile fields break the rules (v_exit, accel, d_stop, d_exit, power)",
     E_HELIX: "helix delta exceeds the arc's move count",
     E_HELIX_COUNT: "arc made a number of moves other than its count (helix steps dropped)",
 }
@@ -153,6 +161,8 @@ PROFILE_FIELDS = (
     ("line_cost", 130, 18),
     ("d_exit", 148, 54),
     ("d_stop", 202, 54),
+    ("set_power", 9, 1),
+    ("power", 15, 17),
 )
 PROFILE_DISTANCE_EXTRA = 19     # d_exit, d_stop < 2^(W + 19) for a core of width W
 
@@ -218,13 +228,14 @@ def encode_arc(cw: int, i: int, j: int, x: int, y: int, cont: bool = False, *,
 
 
 def encode_profile(v_cruise: int, v_exit: int, accel: int, line_cost: int = 0,
-                   d_exit: int = 0, d_stop: int = 0) -> int:
+                   d_exit: int = 0, d_stop: int = 0, set_power: int = 0, power: int = 0) -> int:
     """A PROFILE command (the fields of ``spec.profile.ProfileParams``, in that order;
     ``encode_profile(*dataclasses.astuple(params))``).  Only the field widths are
     checked here: the core checks the rules (E_PROFILE_FIELD)."""
     out = OP_PROFILE
     for (name, lsb, bits), value in zip(PROFILE_FIELDS,
-                                        (v_cruise, v_exit, accel, line_cost, d_exit, d_stop)):
+                                        (v_cruise, v_exit, accel, line_cost, d_exit, d_stop,
+                                         int(set_power), power)):
         if not 0 <= value < 1 << bits:
             raise ValueError(f"profile {name} {value} does not fit {bits} bits unsigned")
         out |= value << lsb
@@ -267,9 +278,11 @@ def decode(cmd: int) -> dict:
         d["reserved_ok"] = (w[0] & ~used0) == 0
     elif op == OP_PROFILE:
         d["cont"] = False
-        d["reserved_ok"] = (w[0] & ~OPCODE_MASK) == 0
+        used = OPCODE_MASK | ~((1 << 32) - 1)       # every bit above word 0 is a field
         for name, lsb, bits in PROFILE_FIELDS:
             d[name] = (cmd >> lsb) & ((1 << bits) - 1)
+            used |= ((1 << bits) - 1) << lsb
+        d["reserved_ok"] = (cmd & ~used) == 0
     elif op == OP_OUTPUT:
         d["cont"] = False
         used = OPCODE_MASK

@@ -4,11 +4,14 @@
 
 The core drives it in program order between moves: a ``load`` pulse takes the settings
 of an OUTPUT command (M3 / M4 / M5 with S, M7 / M8 / M9, the machine file's laser
-mode), ``take`` takes each new segment's cruise speed from the profile stage, and
-``speed`` is the profile stage's speed register.  ``off`` (a level) clears every
-setting and the duty at once (abort, a controlled stop at rest).  The RTL is held to
-``OutputStage`` clock by clock; ``effective_duty`` is the closed form of the duty the
-sequential unit computes (for the tests and the host).
+mode), ``take`` takes each new segment's cruise speed from the profile stage and,
+when the segment's PROFILE sets one (``take_set_power``: laser mode's S words and
+G0s, carried with the motion), its power, and ``speed`` is the profile stage's speed
+register.  A ``load`` at the same edge as a take's power wins (the core never makes
+both at one edge: an OUTPUT loads only with the profile queue empty).  ``off`` (a
+level) clears every setting and the duty at once (abort, a controlled stop at rest).
+The RTL is held to ``OutputStage`` clock by clock; ``effective_duty`` is the closed form
+of the duty the sequential unit computes (for the tests and the host).
 
 Parameter P = ``pwm_bits`` (4..16): a PWM period is 2^P clocks (48.8 kHz at 50 MHz for
 P = 10); the duty is 0..2^P clocks of it (2^P: always on).
@@ -22,7 +25,8 @@ enable, reverse    1 each  the settings: spindle / laser on, counter-clockwise (
 laser, dynamic             of laser mode), laser mode (off at rest), duty follows
 mist, flood                speed / cruise (M4 in laser mode), coolant mist, flood
 power              P+1     the power in 1/2^P of full, 0..2^P: load_power >> (16 - P),
-                           a load_power above 65536 taken as 65536 (the "base")
+                           a load_power above 65536 taken as 65536 (the "base"); a
+                           take with take_set_power loads take_power the same way
 cruise             32      the current segment's cruise speed, BLU per clock x 2^32
 counter            P       the PWM counter: +1 every clock, wraps; cleared by rst only
 duty               P+1     this period's duty, 0..2^P; takes the unit's result at the
@@ -107,8 +111,8 @@ glitch.  ``off``, ``rst`` and a load without enable clear it at the edge.
 
 ``off`` (a level) at an edge: every setting (enable, reverse, laser, dynamic, mist,
 flood, power), the duty, ``pwm`` and ``sample_enable`` (so the computation under way
-delivers 0) are cleared; it wins over a ``load`` at the same edge.  The cruise
-register and the counter keep running.  ``rst`` (synchronous) clears every register.
+delivers 0) are cleared; it wins over a ``load`` and a take's power at the same edge.
+The cruise register and the counter keep running.  ``rst`` (synchronous) clears every register.
 """
 
 from __future__ import annotations
@@ -183,6 +187,8 @@ class OutputInputs:
     speed: int = 0                  # the profile stage's speed, 2^-38 BLU per clock
     take: int = 0                   # pulse: the cruise register takes take_v_cruise
     take_v_cruise: int = 0          # 2^-32 BLU per clock
+    take_set_power: int = 0         # with take: the power register takes take_power
+    take_power: int = 0             # 0..2^17 - 1 (above 65536 acts as 65536), as load_power
 
 
 @dataclass
@@ -325,6 +331,10 @@ class OutputStage:
             if not 0 <= i.take_v_cruise < 1 << CRUISE_BITS:
                 raise ValueError(f"cruise speed {i.take_v_cruise} out of range")
             self.cruise = i.take_v_cruise
+            if i.take_set_power:
+                if not 0 <= i.take_power < 1 << POWER_BITS:
+                    raise ValueError(f"power {i.take_power} out of range")
+                self.power = base_duty(i.take_power, self.pwm_bits)
         if i.off:
             self.enable = self.reverse = self.laser = self.dynamic = 0
             self.mist = self.flood = 0

@@ -197,6 +197,7 @@ ACCEL_BITS = 34                     # speed step < 2^-4 BLU per clock
 LINE_COST_BITS = 18                 # line cost < 4 BLU
 DIST_EXTRA_BITS = 3                 # a segment is < 2^(W + 3) BLU long
 OVERRIDE_ONE = 128                  # the override in 1/128 (128 = 100 %)
+POWER_FULL = 1 << 16                # a profile's power field at 100 % (encoding's OUTPUT's)
 CREDIT_CEILING = 1 << 41            # credit units: above every cap; no gain at or above it
 
 COST_AXIS = 1 << COST_FRAC                          # 65536
@@ -239,6 +240,12 @@ class ProfileParams:
     line_cost: int = 0      # one line iteration, BLU x 2^16, < 2^18; 0 for an arc
     d_exit: int = 0         # BLU x 2^16 from the segment's start
     d_stop: int = 0         # BLU x 2^16, <= d_exit
+    # the output stage's power for the segments run under this profile (laser mode):
+    # set_power 1 loads power (PWM duty, 65536 = 100 %) when the stage takes the
+    # segment; 0 leaves the power as it is (power then 0).  The stage itself does not
+    # read them (``spec.outputs``, ``spec.core``)
+    set_power: int = 0
+    power: int = 0
 
     def largest_cost(self) -> int:
         return self.line_cost if self.line_cost else COST_DIAG
@@ -251,11 +258,15 @@ class ProfileParams:
                                  ("accel", self.accel, 1 << ACCEL_BITS),
                                  ("line_cost", self.line_cost, 1 << LINE_COST_BITS),
                                  ("d_exit", self.d_exit, dist),
-                                 ("d_stop", self.d_stop, self.d_exit + 1)):
+                                 ("d_stop", self.d_stop, self.d_exit + 1),
+                                 ("set_power", self.set_power, 2),
+                                 ("power", self.power, POWER_FULL + 1)):
             if not 0 <= value < top:
                 raise ProfileRangeError(name, f"{value} outside 0 .. {top - 1}")
         if self.accel == 0:
             raise ProfileRangeError("accel", "must be > 0")
+        if self.power and not self.set_power:
+            raise ProfileRangeError("power", "must be 0 unless set_power")
 
 
 def move_cost(cost_class: int, profile: ProfileParams) -> int:

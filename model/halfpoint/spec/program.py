@@ -89,7 +89,7 @@ def line_cost(deltas) -> int:
 
 
 def profiled(cmds, axes: int, width: int, div: int, v_cruise, accel, junction=None,
-             rng=None):
+             rng=None, power=None):
     """``cmds`` with a PROFILE before every motion command.  ``v_cruise`` and
     ``accel`` (field units) are numbers or callables of the segment index; junction
     speeds: ``junction`` (field units, or a callable) or, with ``rng``, random
@@ -97,7 +97,9 @@ def profiled(cmds, axes: int, width: int, div: int, v_cruise, accel, junction=No
     runnable segment's exit speed is 0).  Commands the core rejects get a profile
     too (an arc rejected by its validator a placeholder: it never runs);
     non-motion commands pass unchanged, and the segment before an OUTPUT command
-    ends at rest (the core runs it once everything before it has moved)."""
+    ends at rest (the core runs it once everything before it has moved).  ``power``:
+    a callable of the segment index giving the power its PROFILE carries (set_power),
+    or None for none."""
     def value(x, k):
         return x(k) if callable(x) else x
 
@@ -132,13 +134,16 @@ def profiled(cmds, axes: int, width: int, div: int, v_cruise, accel, junction=No
     plans = pf.plan_integer([r[1] for r in runnable], vc, exits, acc, div,
                             [r[2] for r in runnable]) if n else []
     by_index = {r[0]: p for r, p in zip(runnable, plans)}
+    order = {r[0]: j for j, r in enumerate(runnable)}
     out = []
     for k, c in enumerate(cmds):
         dec = decode_for_core(c, axes, width)
         if k in by_index:
             p = by_index[k]
+            j = order[k]
+            pw = power(j) if power is not None else None
             out.append(enc.encode_profile(p.v_cruise, p.v_exit, p.accel, p.line_cost,
-                                          p.d_exit, p.d_stop))
+                                          p.d_exit, p.d_stop, int(pw is not None), pw or 0))
         elif dec[0] == "arc":       # rejected by the validator: any arc profile
             out.append(enc.encode_profile(1 << 28, 0, 1 << 30))
         out.append(c)
