@@ -25,6 +25,7 @@ from .spec.rules import check_width, fits
 from .sim.engines import ENGINES, run_arcs
 from .cam.gcode import GcodeError
 from .cam.machine import MachineError
+from .cam.run import EngineError
 
 
 class UsageError(Exception):
@@ -394,6 +395,11 @@ def main(argv=None) -> int:
     except MachineError as exc:
         print(f"halfpoint: machine file: {exc}", file=sys.stderr)
         return 3
+    except EngineError as exc:
+        print(f"halfpoint: {getattr(args, 'program', '')}: the {getattr(args, 'engine', '')} "
+              f"engine: {exc}; a program the host accepted should run: please report it",
+              file=sys.stderr)
+        return 4
     except OSError as exc:
         print(f"halfpoint: cannot read {exc.filename}: {exc.strerror}", file=sys.stderr)
         return 2

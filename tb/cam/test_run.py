@@ -184,3 +184,31 @@ def test_the_tool_table_beside_the_program_is_the_default(tmp_path):
     other.write_text("T1 P1 D4.0\n")
     r = hp("compensate", str(prog), "--tools", str(other))
     assert r.returncode == 0 and "Y2" in r.stdout and "beside the program" not in r.stderr
+
+
+@pytest.mark.parametrize("failure, needle", [
+    ("busy", "the core is still busy after 7 clocks (the run's bound"),
+    ("reject", "rejected a command the host planned: code 7 (profile fields break"),
+    ("moves", "the core made 0 moves, the host predicted"),
+])
+def test_an_engine_failure_is_one_line_not_a_traceback(tmp_path, monkeypatch, capsys,
+                                                         failure, needle):
+    """The core not running a planned program as planned (still busy past the run's
+    bound, a rejected command, another number of moves) is an error naming the program
+    and the engine, exit 4, not a traceback (until 2026-11-28 a RuntimeError escaped)."""
+    from halfpoint import cli
+    from halfpoint.cam.motion import Execution
+    from halfpoint.sim import engines
+
+    def broken(items, config, holds, max_clocks):
+        if failure == "busy":
+            raise RuntimeError("the core is still busy after 7 clocks")
+        return Execution(errors=[7] if failure == "reject" else [])
+
+    monkeypatch.setattr(engines, "executor", lambda name: broken)
+    prog = tmp_path / "p.ngc"
+    prog.write_text("G21 F100\nG1 X1 Y1\nM2\n")
+    assert cli.main(["run", str(prog), "--machine", str(EX / "machine_sim.toml")]) == 4
+    err = capsys.readouterr().err
+    assert err.strip().count("\n") == 0 and needle in err and str(prog) in err, err
+    assert "the model engine" in err

@@ -213,6 +213,12 @@ def _element(m: Move):
     return Line(m.start[:2], m.end[:2]), (0, 1)
 
 
+class EngineError(RuntimeError):
+    """The core (model or RTL) did not run a planned program as the host planned it:
+    still busy past the run's bound, a command rejected, or another number of moves.
+    A program the host accepted should never get here: it is a defect to report."""
+
+
 def run_program(path: str, execute=None, radius=None, tools_path=None, strict=False,
                 machine: Machine | None = None, holds=(), window=5, width: int = 32,
                 blu=None) -> RunResult:
@@ -235,14 +241,19 @@ def run_program(path: str, execute=None, radius=None, tools_path=None, strict=Fa
     planned_s = estimate_time(motion.planned)
     limit = max_clocks_for(motion.items, holds,
                            10_000_000 + 3 * math.ceil(planned_s * machine.clock_hz))
-    ex = (execute or run_model)(motion.items, core_config(machine, width), holds,
-                                max_clocks=limit)
+    try:
+        ex = (execute or run_model)(motion.items, core_config(machine, width), holds,
+                                    max_clocks=limit)
+    except RuntimeError as exc:     # an executor's "still busy", the RTL engine's failure
+        raise EngineError(f"{exc} (the run's bound: three times the planned "
+                          f"{planned_s:.3f} s, plus holds and dwells)") from exc
     if ex.errors:
-        raise RuntimeError(f"the core rejected a command (codes {ex.errors})")
+        codes = ", ".join(f"{c} ({enc.ERR_TEXT.get(c, 'unknown')})" for c in ex.errors)
+        raise EngineError(f"the core rejected a command the host planned: code {codes}")
     trace = [p for _, p in ex.moves]
     expected = sum(q.moves_per_cmd)
     if len(trace) != expected:
-        raise RuntimeError(f"the core made {len(trace)} moves, the host predicted {expected}")
+        raise EngineError(f"the core made {len(trace)} moves, the host predicted {expected}")
     dev = 0.0
     k = 0
     for m, n in zip(q.src, q.moves_per_cmd):
@@ -431,4 +442,4 @@ def print_messages(path: str, messages) -> None:
 
 __all__ = ["load_program", "run_program", "plot_run", "plot_profile", "write_trace", "to_gcode",
            "print_warnings", "print_messages", "plan_items_compensated", "output_settings",
-           "RunResult"]
+           "RunResult", "EngineError"]
