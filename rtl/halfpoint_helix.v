@@ -15,7 +15,8 @@
 //
 // The accumulator is kept as e = acc + |delta| - N: the next move's step is
 // e's sign bit (a register), and each move adds |delta| - N after a step or
-// |delta| otherwise (both set when the arc starts).
+// |delta| otherwise (both set when the arc starts).  A core of NA axes has
+// min(2, NA - 2) slots, and only those have registers (NA 3: one, NA 2: none).
 //
 // Moves beyond the N-th step no helix axis; count_error flags the arc's last
 // move when the arc made a number of moves other than N (N = 0: not given, a
@@ -88,6 +89,9 @@ module halfpoint_helix #(
     // e and the constants added to it: 34-bit signed (|e| < 2^33)
     localparam integer EW = 34;
     localparam [2:0] NO_AXIS = 3'd7;
+    // the helix slots a core of NA axes has, min(2, NA - 2): a slot beyond them
+    // never has an axis (its slot_axes entry is NO_AXIS), so it has no registers
+    localparam integer SLOTS = (NA - 2 < 2) ? NA - 2 : 2;
 
     // the helix slots' axes: the axes outside {u, v} in increasing order (the
     // first two; NO_AXIS when there are fewer)
@@ -109,10 +113,9 @@ module halfpoint_helix #(
         end
     endfunction
 
-    // pending slot
+    // pending slot (each helix slot's magnitude below, with the slot)
     reg [2:0]  pend_u_q, pend_v_q;
     reg [31:0] pend_count_q;
-    reg [W-1:0] pend_magnitude0_q, pend_magnitude1_q;
     reg [1:0]  pend_negative_q;
 
     always @(posedge clk) begin
@@ -120,8 +123,6 @@ module halfpoint_helix #(
             pend_u_q <= take_u;
             pend_v_q <= take_v;
             pend_count_q <= take_count;
-            pend_magnitude0_q <= take_magnitude0;
-            pend_magnitude1_q <= take_magnitude1;
             pend_negative_q <= take_negative;
         end
     end
@@ -132,18 +133,13 @@ module halfpoint_helix #(
     reg [1:0]    run_negative_q;
     reg [31:0]   remaining_q;
     reg          counted_q;         // N was not 0
-    reg [EW-1:0] e0_q, e1_q;
-    reg [EW-1:0] add0_q, add1_q;    // |delta|
-    reg [EW-1:0] sub0_q, sub1_q;    // |delta| - N
 
     wire          live = (remaining_q != 32'd0);
-    wire [1:0]    slot_step = {live && !e1_q[EW-1], live && !e0_q[EW-1]};
+    wire [1:0]    slot_step;
     assign count_error = move && last && counted_q && (remaining_q != 32'd1);
 
     wire [EW-1:0] pend_count = {{(EW-32){1'b0}}, pend_count_q};
     wire [EW-1:0] pend_half = {{(EW-31){1'b0}}, pend_count_q[31:1]};
-    wire [EW-1:0] pend_add0 = {{(EW-W){1'b0}}, pend_magnitude0_q};
-    wire [EW-1:0] pend_add1 = {{(EW-W){1'b0}}, pend_magnitude1_q};
 
     always @(posedge clk) begin
         if (rst || flush) begin
@@ -153,12 +149,6 @@ module halfpoint_helix #(
             run_negative_q <= 2'b00;
             remaining_q <= 32'd0;
             counted_q <= 1'b0;
-            e0_q <= {EW{1'b1}};
-            e1_q <= {EW{1'b1}};
-            add0_q <= {EW{1'b0}};
-            add1_q <= {EW{1'b0}};
-            sub0_q <= {EW{1'b0}};
-            sub1_q <= {EW{1'b0}};
         end else if (load) begin
             run_u_q <= pend_u_q;
             run_v_q <= pend_v_q;
@@ -166,18 +156,51 @@ module halfpoint_helix #(
             run_negative_q <= pend_negative_q;
             remaining_q <= pend_count_q;
             counted_q <= (pend_count_q != 32'd0);
-            e0_q <= pend_half + pend_add0 - pend_count;
-            e1_q <= pend_half + pend_add1 - pend_count;
-            add0_q <= pend_add0;
-            add1_q <= pend_add1;
-            sub0_q <= pend_add0 - pend_count;
-            sub1_q <= pend_add1 - pend_count;
         end else if (move && live) begin
             remaining_q <= remaining_q - 32'd1;
-            e0_q <= e0_q + (slot_step[0] ? sub0_q : add0_q);
-            e1_q <= e1_q + (slot_step[1] ? sub1_q : add1_q);
         end
     end
+
+    // Each helix slot the core has: its pending |delta|, e and the two
+    // constants added to it (|delta| after no step, |delta| - N after a step)
+    genvar slot;
+    generate
+        for (slot = 0; slot < 2; slot = slot + 1) begin : g_slot
+            wire [W-1:0] take_magnitude = (slot == 0) ? take_magnitude0 : take_magnitude1;
+            if (slot < SLOTS) begin : g_used
+                reg  [W-1:0]  pend_magnitude_q;
+                reg  [EW-1:0] e_q;
+                reg  [EW-1:0] add_q;        // |delta|
+                reg  [EW-1:0] sub_q;        // |delta| - N
+                wire [EW-1:0] pend_add = {{(EW-W){1'b0}}, pend_magnitude_q};
+                assign slot_step[slot] = live && !e_q[EW-1];
+                always @(posedge clk) begin
+                    if (take) pend_magnitude_q <= take_magnitude;
+                end
+                always @(posedge clk) begin
+                    if (rst || flush) begin
+                        e_q <= {EW{1'b1}};
+                        add_q <= {EW{1'b0}};
+                        sub_q <= {EW{1'b0}};
+                    end else if (load) begin
+                        e_q <= pend_half + pend_add - pend_count;
+                        add_q <= pend_add;
+                        sub_q <= pend_add - pend_count;
+                    end else if (move && live) begin
+                        e_q <= e_q + (slot_step[slot] ? sub_q : add_q);
+                    end
+                end
+            end else begin : g_absent
+                // no axis: the command's delta there is 0 (the core rejects any other)
+                assign slot_step[slot] = 1'b0;
+                wire unused_magnitude = ^take_magnitude;
+            end
+        end
+        if (SLOTS == 0) begin : g_no_slots
+            // NA 2: the count's halves serve the slots only
+            wire unused_counts = ^{pend_count, pend_half};
+        end
+    endgenerate
 
     // the next move on the core's axes
     integer k;
