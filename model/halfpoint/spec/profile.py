@@ -185,6 +185,8 @@ import math
 from dataclasses import dataclass, field
 from fractions import Fraction
 
+from .encoding import OUTPUT_POWER_FULL
+
 # --- fixed point ----------------------------------------------------------------------------
 
 COST_FRAC = 16                      # costs and distances: BLU x 2^16
@@ -197,7 +199,7 @@ ACCEL_BITS = 34                     # speed step < 2^-4 BLU per clock
 LINE_COST_BITS = 18                 # line cost < 4 BLU
 DIST_EXTRA_BITS = 3                 # a segment is < 2^(W + 3) BLU long
 OVERRIDE_ONE = 128                  # the override in 1/128 (128 = 100 %)
-POWER_FULL = 1 << 16                # a profile's power field at 100 % (encoding's OUTPUT's)
+POWER_FULL = OUTPUT_POWER_FULL      # a profile's power field at 100 %, as an OUTPUT's
 CREDIT_CEILING = 1 << 41            # credit units: above every cap; no gain at or above it
 
 COST_AXIS = 1 << COST_FRAC                          # 65536
