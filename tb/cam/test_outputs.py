@@ -13,7 +13,9 @@ segment boundary with the motion running.
 
 from __future__ import annotations
 
+import math
 from dataclasses import replace
+from fractions import Fraction
 from pathlib import Path
 
 import pytest
@@ -189,14 +191,21 @@ def test_a_laser_raster_runs_through_its_s_words(tmp_path):
     assert [k for k, op in enumerate(ops) if op == enc.OP_OUTPUT] == [0, len(ops) - 3]
     motion = [k for k, op in enumerate(ops) if op == enc.OP_LINE]
     assert all(d[k]["cont"] for k in motion[:-2])       # the last G0 follows the M5
+    # (M4: S's power times the PROFILE's cruise speed over F where the pixel is too short
+    # to reach F, so that the core's duty, power x speed / cruise, is S x speed / F)
+    feed = Fraction(30000, 60) / Fraction(LASER.blu[0]) / LASER.clock_hz * (1 << 32)
     want = []
-    for m in (c.move for c in mp.commands):
+    for c in mp.commands:
+        m = c.move
         if m.kind == "rapid":
             want.append(0)
         else:
             row, x = round(m.end[1] / 0.5), round(m.end[0])
             col = x - 1 if row % 2 == 0 else x
-            want.append(round(FULL * _raster_s(row, col) / LASER.spindle_max))
+            power = round(FULL * _raster_s(row, col) / LASER.spindle_max)
+            if c.profile.v_cruise < math.floor(feed):
+                power = math.floor(power * c.profile.v_cruise / feed)
+            want.append(power)
     assert [c.profile.power for c in mp.commands] == want
     assert all(d[k - 1]["set_power"] == 1 and d[k - 1]["power"] == p
                for k, p in zip(motion, want))
@@ -270,6 +279,43 @@ def test_the_power_switches_at_the_segment_boundary_with_the_motion_running():
     # the PWM duty follows at speed: S500's half power during the second cut
     assert any(r[3] == full // 2 and r[0] > 0 and blu < r[1][0] < 2 * blu for r in rows)
     assert run_model(mp.items, cfg).moves == run_clocked(mp.items, cfg).moves
+
+
+def test_m4_duty_is_s_times_speed_over_the_programmed_feed():
+    """M4 (dynamic power) on a stroke too short to reach F, and with F above the axes'
+    limit: the core's duty is power x speed / the PROFILE's cruise speed, which is the
+    segment's planned peak, not F; so the power is scaled by cruise / F and the duty at
+    the peak is S x speed / F, grbl's M4 (until 2026-11-28 it burned at full S at the
+    lower peak).  M3 (constant power) and strokes that reach F are not scaled."""
+    slow = _sim(laser_mode=True, axes=tuple(replace(a, max_accel_mm_s2=200_000.0,
+                                                    max_velocity_mm_s=400.0)
+                                            for a in SIM.axes))
+    feed_field = Fraction(500) / Fraction(slow.blu[0]) / slow.clock_hz * (1 << 32)
+    for mode, scaled in (("M4", True), ("M3", False)):
+        # a 0.5 mm stroke at F30000 (500 mm/s): its peak sqrt(a L) = 316 mm/s; then a
+        # 20 mm stroke at F30000 above the axes' 400 mm/s
+        text = (f"G21 G90\n{mode} S1000\nG0 X0 Y0\nG1 X0.5 F30000\nG0 X5\n"
+                "G1 X25 F30000\nM5\nM2\n")
+        _, mp = _motion(text, slow)
+        cuts = [c for c in mp.commands if c.move.kind == "line"]
+        assert len(cuts) == 2
+        for c in cuts:
+            assert c.profile.v_cruise < 0.85 * feed_field      # neither reaches F
+            want = math.floor(FULL * c.profile.v_cruise / feed_field) if scaled else FULL
+            assert c.profile.power == want
+        if not scaled:
+            continue
+        # on the clock-by-clock core: at the short stroke's peak speed the duty is
+        # S x v / F within the duty's 1/1024 steps (the speed a clock or two before)
+        _, short = _motion(f"G21 G90\n{mode} S1000\nG1 X0.5 F30000\nM5\nM2\n", slow)
+        rows = _clocked_outputs(short.items, core_config(slow))
+        blu = round(1 / slow.blu[0])
+        stroke = [r for r in rows if 0 < r[1][0] < blu // 2 and r[0] > 0]
+        top = max(r[0] for r in stroke)
+        ratio = Fraction(top, 1 << 38) / (feed_field / (1 << 32))
+        duty = max(r[3] for r in stroke if r[0] >= top * 0.98)
+        assert abs(duty - 1024 * ratio) <= 16, (duty, float(1024 * ratio))
+        assert duty < 0.8 * 1024
 
 
 def _stops(mp) -> list:

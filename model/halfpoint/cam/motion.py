@@ -46,7 +46,10 @@ change is.
   command and no stop: from the move after it on (in item order, until the next
   one), every motion command's PROFILE has ``set_power`` 1 and its ``power``, so the
   core's output stage takes that power when its profile stage takes the command's
-  segment, with the motion running.  Every command of one move (arc pieces,
+  segment, with the motion running.  Under M4 (``dynamic``) the stage's duty is the
+  power times speed / the PROFILE's v_cruise; where v_cruise is below the programmed
+  feed F (a segment too short to reach it, a small arc, an axis limit) the power is
+  scaled by v_cruise / F, so that the duty is S x speed / F, as grbl's M4.  Every command of one move (arc pieces,
   correcting lines) carries that move's power.  Moves before the first power change
   (all of them outside laser mode) have PROFILEs with ``set_power`` 0, as before.
 
@@ -143,12 +146,12 @@ def build_motion(q, items, machine: Machine, width: int = WIDTH) -> MotionPlan:
     bx = blu[0]
     # the power in force for each move (laser mode's PowerChange items, which the
     # planner plans through: they leave the plan)
-    power_of = {}               # id(move) -> power
+    power_of = {}               # id(move) -> (power, dynamic)
     power = None
     kept = []
     for it in items:
         if isinstance(it, PowerChange):
-            power = it.power
+            power = (it.power, it.dynamic)
             continue
         if power is not None and not isinstance(it, Dwell):
             power_of[id(it)] = power
@@ -258,7 +261,11 @@ def build_motion(q, items, machine: Machine, width: int = WIDTH) -> MotionPlan:
             out_items.append(_pause(dw, clock))
         p = profiles[k]
         if id(q.src[k]) in power_of:
-            p = replace(p, set_power=1, power=power_of[id(q.src[k])])
+            power, dynamic = power_of[id(q.src[k])]
+            if dynamic:
+                power = _dynamic_power(power, p.v_cruise, q.src[k], seg_of[id(q.src[k])],
+                                       kinds[k], bx, clock)
+            p = replace(p, set_power=1, power=power)
         try:
             p.check(width)
         except pf.ProfileRangeError as exc:
@@ -272,6 +279,23 @@ def build_motion(q, items, machine: Machine, width: int = WIDTH) -> MotionPlan:
     for dw in pauses_before[n]:
         out_items.append(_pause(dw, clock))
     return MotionPlan(out_items, commands, planned, div, clock, tuple(blu))
+
+
+def _dynamic_power(power: int, v_cruise: int, m: Move, seg: Segment, kind: str, bx: float,
+                   clock: int) -> int:
+    """M4's power for a command of move ``m`` whose PROFILE has ``v_cruise``: the core's
+    output stage makes the duty power x speed / v_cruise, and v_cruise is the segment's
+    planned peak, below the programmed feed where the segment is too short to reach it,
+    on a small arc or above an axis's limit; so the power is scaled by v_cruise / F
+    (floor), and the duty is S x speed / F, grbl's M4, on every segment."""
+    if power == 0 or m.kind == "rapid" or not m.feed > 0:
+        return power
+    share = Fraction(plane_share(seg)) if kind == "arc" else Fraction(1)
+    feed = (Fraction(m.feed) / 60 * share / Fraction(bx) / clock
+            * (1 << pf.FIELD_SPEED_FRAC))                 # in v_cruise's units
+    if v_cruise >= math.floor(feed):                      # at F (its field is a floor)
+        return power
+    return int(power * v_cruise / feed)
 
 
 def _pause(dw: Dwell, clock: int):

@@ -125,6 +125,10 @@ class PowerChange:
 
     power: int
     lineno: int
+    # M4 (dynamic power): the output stage scales the duty by the speed over the
+    # segment's cruise speed; build_motion scales ``power`` by that cruise speed over
+    # the programmed feed, so the duty is S x speed / F, as grbl's
+    dynamic: bool = False
 
 
 @dataclass

@@ -136,7 +136,7 @@ def plan_items_compensated(prog, moves, machine: Machine | None = None) -> list:
     # that is an OutputChange (changes with no move between them are merged into one)
     emitted = [output_settings(machine, **state)] if machine is not None else [None]
     before_last = [None]
-    power = [None]              # laser mode: the last PowerChange's power
+    power = [None]              # laser mode: the last PowerChange's (power, dynamic)
     items: list = []
 
     def same(a: tuple | None, b: tuple | None) -> bool:
@@ -173,11 +173,12 @@ def plan_items_compensated(prog, moves, machine: Machine | None = None) -> list:
         the motion."""
         if not laser:
             return
-        want = 0
+        want = (0, False)
         if state["on"] and m.kind != "rapid":
-            want = output_settings(machine, **state)[0]
+            settings = output_settings(machine, **state)
+            want = (settings[0], bool(settings[4]))        # M4: dynamic
         if want != power[0]:
-            items.append(PowerChange(want, m.lineno))
+            items.append(PowerChange(want[0], m.lineno, want[1]))
             power[0] = want
 
     where = {id(m): i for i, m in enumerate(prog.moves)}

@@ -53,7 +53,8 @@ speed c (2^-32) and the settings, with base = the power register (0..2^P):
 
 * not enabled: 0;
 * not laser (spindle speed control): base;
-* laser, not dynamic (grbl's M3 in laser mode): base if s != 0, else 0 (off at rest);
+* laser, not dynamic (M3 in laser mode): base if s != 0, else 0 (off at rest, where
+  grbl's M3 stays on);
 * laser and dynamic (M4 in laser mode): base * q / 2^P rounded down, where q = 0 if
   s = 0, else 2^P if s >= c << 6 (also when c = 0), else floor(s * 2^P / (c << 6)):
   the power per length stays that of the cruise speed through accelerations and
