@@ -71,7 +71,7 @@ from fractions import Fraction
 
 from ..spec import encoding as enc
 from ..spec import profile as pf
-from ..spec.core import decode_for_core
+from ..spec.core import CoreBusy, decode_for_core
 from ..spec.program import segment_moves
 from ..spec.stepgen import StepCfg
 from .gcode import GcodeError, Move
@@ -425,7 +425,7 @@ def run_clocked(items, config: CoreConfig, holds=(), max_clocks: int | None = No
     cycle = 0
     while not feeder.done:
         if cycle >= limit:
-            raise RuntimeError(f"the core is still busy after {limit} clocks")
+            raise CoreBusy(f"the core is still busy after {limit} clocks")
         tvalid, tdata, hold = feeder.step(cycle, model.outputs())
         model.clock(CoreInputs(tvalid=tvalid, tdata=tdata, hold=hold))
         cycle += 1
@@ -460,8 +460,16 @@ def run_model(items, config: CoreConfig, holds=(), max_clocks: int | None = None
                          list(r.errors), r.dry, r.underrun, r.clocks)
     cmds = [it for it in items if not isinstance(it, Pause)]
     pauses = sum(it.clocks for it in items if isinstance(it, Pause))
-    if _fast(cmds, config, holds, limit).clocks + pauses <= CLOCKED_LIMIT:
-        return run_clocked(items, config, holds, limit)
+    # short or long: a fast run without the pauses, stopped at the clocked run's limit
+    # (a long job is not run to its end twice)
+    budget = min(CLOCKED_LIMIT - pauses, limit)
+    if budget > 0:
+        try:
+            _fast(cmds, config, holds, budget)
+        except CoreBusy:
+            pass
+        else:
+            return run_clocked(items, config, holds, limit)
     return run_paused_fast(items, config, holds, limit)
 
 

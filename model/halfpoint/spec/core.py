@@ -571,6 +571,11 @@ class ProgramRun:
     errors: list[int]           # err_code of every rejected command
 
 
+class CoreBusy(RuntimeError):
+    """A run of the core (clock by clock or event-skipping) reached its clock bound
+    with the core still busy."""
+
+
 def run_program(model: CoreModel, cmds, max_clocks: int = 50_000_000) -> ProgramRun:
     """Reset ``model`` and stream ``cmds`` into it back to back (the queue kept
     as full as tready allows) until the core is idle again."""
@@ -579,7 +584,7 @@ def run_program(model: CoreModel, cmds, max_clocks: int = 50_000_000) -> Program
     idx, cyc, idle = 0, 0, 0
     while idx < len(cmds) or idle < 4:
         if cyc >= max_clocks:
-            raise RuntimeError(f"the core is still busy after {max_clocks} clocks")
+            raise CoreBusy(f"the core is still busy after {max_clocks} clocks")
         o = model.outputs()
         if o.move:
             run.times.append(cyc)

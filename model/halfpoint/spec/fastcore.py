@@ -68,7 +68,7 @@ from dataclasses import dataclass
 from . import encoding as enc
 from . import profile as pf
 from .arc import V_HOLD, V_IDLE
-from .core import CoreInputs, CoreModel, HeadView, ProgramRun
+from .core import CoreBusy, CoreInputs, CoreModel, HeadView, ProgramRun
 from .line import L_HOLD, L_IDLE
 from .rules import wrap
 from .stepgen import S_HIGH, S_LOW, S_SETUP, StepCfg, StepInputs
@@ -412,7 +412,7 @@ def run_fast(cmds, axes: int, width: int, depth: int, tw: int, div: int, move_de
     waiting = False                 # a beat offered in the clock before, not taken
     while idx < n or idle < 4:
         if cyc >= max_clocks:
-            raise RuntimeError(f"the core is still busy after {max_clocks} clocks")
+            raise CoreBusy(f"the core is still busy after {max_clocks} clocks")
         if cyc >= hold_next:
             hold = hs.at(cyc)
             hold_next = hs.next_change(cyc)
@@ -487,7 +487,7 @@ def run_clocked(cmds, axes: int, width: int, depth: int, tw: int, div: int, move
     waiting = False
     while idx < n or idle < 4:
         if cyc >= max_clocks:
-            raise RuntimeError(f"the core is still busy after {max_clocks} clocks")
+            raise CoreBusy(f"the core is still busy after {max_clocks} clocks")
         o = m.outputs()
         if o.move:
             run.times.append(cyc)
