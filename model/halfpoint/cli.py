@@ -248,7 +248,8 @@ def cmd_run(args) -> int:
     print(f"moves: {len(res.programmed)} programmed, {len(res.compensated)} after "
           f"compensation")
     print(f"commands: {len(res.motion.commands)} motion commands with their PROFILEs, "
-          f"{len(res.motion.pauses)} dwell pauses")
+          f"{len(res.motion.pauses)} dwell pauses, {res.motion.outputs} output changes (each "
+          f"a stop), {res.motion.power_changes} power changes with the motion")
     print(f"lattice moves: {len(res.lattice)}")
     end = res.lattice[-1] if res.lattice else (0,) * len(blu)
     print(f"final position: {', '.join(f'{v * b:.4f}' for v, b in zip(end, blu))} mm")

@@ -235,3 +235,6 @@ def test_hash_comments_are_refused_naming_the_line(tmp_path):
     assert powers == [(0, "G0")] + [(s100, "G1")] * 4
     res = run_program(str(fixed), machine=_laser(1000.0))
     assert not res.execution.errors
+    # what `halfpoint run` prints of it: one output change (the M4 at the top, at rest:
+    # the file has no M5), two power changes (0 for the G0, S100 for the square)
+    assert (res.motion.outputs, res.motion.power_changes) == (1, 2)

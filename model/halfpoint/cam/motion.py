@@ -123,6 +123,23 @@ class MotionPlan:
     def pauses(self) -> list:
         return [it for it in self.items if isinstance(it, Pause)]
 
+    @property
+    def outputs(self) -> int:
+        """OUTPUT commands (spindle, laser, coolant changes: each a stop)."""
+        return sum(1 for it in self.items if not isinstance(it, Pause)
+                   and it & enc.OPCODE_MASK == enc.OP_OUTPUT)
+
+    @property
+    def power_changes(self) -> int:
+        """Motion commands whose PROFILE sets another power than the one before it
+        (laser mode: carried with the motion, no stop)."""
+        last, count = None, 0
+        for c in self.commands:
+            if c.profile.set_power and c.profile.power != last:
+                count += 1
+                last = c.profile.power
+        return count
+
 
 def _range_error(lineno: int, exc: pf.ProfileRangeError) -> GcodeError:
     return GcodeError(lineno, f"the core's fixed point cannot hold this block's {exc}")
