@@ -49,9 +49,10 @@ change is.
   segment, with the motion running.  Under M4 (``dynamic``) the stage's duty is the
   power times speed / the PROFILE's v_cruise; where v_cruise is below the programmed
   feed F (a segment too short to reach it, a small arc, an axis limit) the power is
-  scaled by v_cruise / F, so that the duty is S x speed / F, as grbl's M4.  Every command of one move (arc pieces,
-  correcting lines) carries that move's power.  Moves before the first power change
-  (all of them outside laser mode) have PROFILEs with ``set_power`` 0, as before.
+  scaled by v_cruise / F, so that the duty is S x speed / F, as grbl's M4.  Every
+  command of one move (arc pieces, correcting lines) carries that move's power.  Moves
+  before the first power change (all of them outside laser mode) have PROFILEs with
+  ``set_power`` 0, as before.
 
 Executors (``run_model`` and ``run_clocked`` here; ``halfpoint.sim.engines`` has the
 RTL one; a faster model can take the same place) are functions ``(items, CoreConfig, holds) ->
