@@ -181,6 +181,23 @@ def _encloses(blocks: list[Move]) -> bool:
     return len(blocks) >= 3 or any(m.kind == "arc" for m in blocks)
 
 
+def _vertices(start_xy, xy: list[Move]) -> list:
+    """The XY points a stretch passes: its start, then each block's end."""
+    return [start_xy] + [m.end[:2] for m in xy]
+
+
+def _second_pass(start_xy, xy: list[Move], loop) -> int | None:
+    """Where the closed loop ``xy[a:b]`` (``loop``) is followed round again: the
+    block c (a < c < b) at which the path is back at the loop's start having gone
+    round once (depth passes round one contour), or None."""
+    a, b = loop
+    verts = _vertices(start_xy, xy)
+    for c in range(a + 1, b):
+        if _close(verts[c], verts[a], 1e-6) and _encloses(xy[a:c]) and _encloses(xy[c:b]):
+            return c
+    return None
+
+
 def _loop(start_xy, xy: list[Move]):
     """The closed loop of a stretch, as (a, b): its blocks ``xy[a:b]`` (the
     blocks with XY motion, after the entry move; an arc entry counts as the
@@ -194,7 +211,7 @@ def _loop(start_xy, xy: list[Move]):
     n = len(xy)
     if n == 0:
         return None
-    verts = [start_xy] + [m.end[:2] for m in xy]
+    verts = _vertices(start_xy, xy)
     if _close(verts[n], verts[0], 1e-6):
         return 0, n
     for a in range(0, min(LEAD_BLOCKS, n - 1) + 1):
@@ -372,21 +389,17 @@ class _Stretch:
                 xy = [m for m, f in zip(self.contour, moving) if f]
             loop = _loop(start_xy, xy)
         self.closed = loop is not None
-        if loop is not None:
-            a, b = loop
-            verts = [start_xy] + [m.end[:2] for m in xy]
-            for c in range(a + 1, b):
-                if _close(verts[c], verts[a], 1e-6) and _encloses(xy[a:c]) and \
-                        _encloses(xy[c:b]):
-                    # followed round more than once (depth passes): every pass
-                    # would be a loop of its own, and the interference check
-                    # would read the passes' offsets as crossing each other
-                    raise GcodeError(xy[c].lineno,
-                                     f"the closed contour of lines {xy[a].lineno}-"
-                                     f"{xy[c - 1].lineno} is followed round again from "
-                                     "here with cutter compensation on (depth passes): "
-                                     "not supported; turn compensation off (G40) after "
-                                     "each pass and on again (G41/G42) for the next")
+        again = _second_pass(start_xy, xy, loop) if loop is not None else None
+        if again is not None:
+            # followed round more than once (depth passes): every pass would be a
+            # loop of its own, and the interference check would read the passes'
+            # offsets as crossing each other
+            raise GcodeError(xy[again].lineno,
+                             f"the closed contour of lines {xy[loop[0]].lineno}-"
+                             f"{xy[again - 1].lineno} is followed round again from "
+                             "here with cutter compensation on (depth passes): "
+                             "not supported; turn compensation off (G40) after "
+                             "each pass and on again (G41/G42) for the next")
         loop_first = None
         if loop is not None:
             a, b = loop

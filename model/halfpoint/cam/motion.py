@@ -262,8 +262,8 @@ def build_motion(q, items, machine: Machine, width: int = WIDTH) -> MotionPlan:
                 raise pf.ProfileRangeError("cruise speed", f"{cruise_mm[k]:.6g} mm/s is 0 in "
                                            "the 2^-32 BLU per clock field")
             # a junction speed is a limit: its floor is always safe, however coarse
-            ve = vc if exit_mm[k] >= cruise_mm[k] else math.floor(
-                Fraction(exit_mm[k]) / Fraction(bx) / clock * (1 << pf.FIELD_SPEED_FRAC))
+            ve = vc if exit_mm[k] >= cruise_mm[k] else math.floor(pf.speed_exact(exit_mm[k],
+                                                                                 bx, clock))
             acc = pf.accel_field(accel_mm[k], bx, clock, div)
         except pf.ProfileRangeError as exc:
             raise _range_error(m.lineno, exc) from None
@@ -309,8 +309,7 @@ def _dynamic_power(power: int, v_cruise: int, m: Move, seg: Segment, kind: str, 
     if power == 0 or m.kind == "rapid" or not m.feed > 0:
         return power
     share = Fraction(plane_share(seg)) if kind == "arc" else Fraction(1)
-    feed = (Fraction(m.feed) / 60 * share / Fraction(bx) / clock
-            * (1 << pf.FIELD_SPEED_FRAC))                 # in v_cruise's units
+    feed = pf.speed_exact(Fraction(m.feed) / 60 * share, bx, clock)  # v_cruise's units
     if v_cruise >= math.floor(feed):                      # at F (its field is a floor)
         return power
     return int(power * v_cruise / feed)

@@ -752,10 +752,14 @@ def _field(quantity: str, exact: Fraction, bits: int, nearest: bool = False) -> 
     return value
 
 
+def speed_exact(mm_s: float, blu_mm: float, clock_hz: int) -> Fraction:
+    """A path speed in mm/s in the v_cruise / v_exit field's units, exactly (any size)."""
+    return Fraction(mm_s) / Fraction(blu_mm) / clock_hz * (1 << FIELD_SPEED_FRAC)
+
+
 def speed_field(mm_s: float, blu_mm: float, clock_hz: int, quantity: str = "speed") -> int:
     """A path speed in mm/s as a v_cruise / v_exit field (floor: never faster)."""
-    exact = Fraction(mm_s) / Fraction(blu_mm) / clock_hz * (1 << FIELD_SPEED_FRAC)
-    return _field(quantity, exact, FIELD_SPEED_BITS)
+    return _field(quantity, speed_exact(mm_s, blu_mm, clock_hz), FIELD_SPEED_BITS)
 
 
 def accel_field(mm_s2: float, blu_mm: float, clock_hz: int, div: int,
