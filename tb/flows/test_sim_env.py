@@ -86,3 +86,55 @@ def test_yowasp_warm_up_leaves_other_tools_alone(tmp_path):
     other.chmod(0o755)
     env.warm_yowasp(other)
     assert not (tmp_path / "ran").exists()
+
+
+def test_a_shared_simulator_build_is_never_rebuilt_under_a_running_simulation(
+        monkeypatch, tmp_path):
+    """Two runs of one build (pytest-xdist workers, the CLI's RTL engine in several
+    tests): the second's build waits until the first's simulation has ended, and the
+    two simulations may overlap (a relink under a running simulator failed a fresh
+    clone's `make test` with "Text file busy", 2026-11-28)."""
+    import threading
+    import time
+
+    import cocotb_tools.runner as runner_module
+
+    events = []
+    lock = threading.Lock()
+
+    def note(what):
+        with lock:
+            events.append((what, threading.current_thread().name))
+
+    class FakeRunner:
+        def build(self, **kwargs):
+            note("build start")
+            time.sleep(0.2)
+            note("build end")
+
+        def test(self, **kwargs):
+            note("test start")
+            time.sleep(0.4)
+            note("test end")
+            return "results"
+
+    monkeypatch.setattr(runner_module, "get_runner", lambda simulator: FakeRunner())
+    monkeypatch.setattr(runner_module, "get_results", lambda results: (1, 0))
+    monkeypatch.setattr(env, "setup_verilator_env", lambda: None)
+    monkeypatch.setattr(env, "sim_build_dir", lambda name, simulator: tmp_path / name)
+
+    def run():
+        env.run_cocotb("top", [], "tests", tmp_path / "run", {}, "shared",
+                       simulator="verilator")
+
+    first = threading.Thread(target=run, name="first")
+    second = threading.Thread(target=run, name="second")
+    first.start()
+    time.sleep(0.3)                 # the first is simulating
+    second.start()
+    first.join()
+    second.join()
+    order = [e for e, t in events if t == "first"], [e for e, t in events if t == "second"]
+    assert order[0] == order[1] == ["build start", "build end", "test start", "test end"]
+    # the second's build started only after the first's simulation ended
+    assert events.index(("build start", "second")) > events.index(("test end", "first"))

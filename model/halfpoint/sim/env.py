@@ -16,6 +16,7 @@ into build/sim/icarus/<name>/, so the two simulators never share a build.
 
 from __future__ import annotations
 
+import fcntl
 import os
 import shutil
 import subprocess
@@ -107,8 +108,6 @@ def warm_yowasp(exe: str | Path) -> None:
     directory, so that its compiled module is complete before this process runs it for
     real (see above).  Once per process and tool; a tool that is not a yowasp one, or
     not installed, is left to its caller to report."""
-    import fcntl
-
     exe = Path(exe)
     name = exe.name
     if not name.startswith("yowasp-") or str(exe) in _WARM or not exe.exists():
@@ -176,6 +175,14 @@ def rtl_sources(*modules: str) -> list[Path]:
     return [RTL / f"{m}.v" for m in modules]
 
 
+def build_lock(build_dir: Path):
+    """The lock file of a simulator build (beside its directory, which a build may
+    replace), opened for ``fcntl.flock``; the caller takes the lock."""
+    build_dir = Path(build_dir)
+    build_dir.parent.mkdir(parents=True, exist_ok=True)
+    return open(build_dir.parent / f"{build_dir.name}.lock", "w")
+
+
 def run_cocotb(
     toplevel: str,
     sources: list[Path],
@@ -227,27 +234,34 @@ def run_cocotb(
         build_args = ["-g2005", "-Wall", "-Wno-timescale"]
         extra = {"always": True, "timescale": ("1ns", "1ps")}
     runner = get_runner(simulator)
-    runner.build(
-        sources=sources,
-        includes=[RTL],             # rtl/halfpoint_cmd.vh, the generated command layout
-        hdl_toplevel=toplevel,
-        parameters=parameters,
-        build_dir=build_dir,
-        build_args=build_args,
-        waves=waves,
-        log_file=log,
-        **extra,
-    )
-    results = runner.test(
-        hdl_toplevel=toplevel,
-        test_module=test_module,
-        test_dir=test_dir,
-        build_dir=build_dir,
-        extra_env={k: str(v) for k, v in (extra_env or {}).items()},
-        testcase=testcase,
-        waves=waves,
-        log_file=(build_dir / "test.log") if quiet else None,
-    )
+    # Processes that share a build (pytest-xdist workers, the CLI's RTL engine run by
+    # several tests at once) build it one at a time and never while another runs it:
+    # the build under an exclusive lock, the run under a shared one (a relink under a
+    # running simulator failed it with "Text file busy")
+    with build_lock(build_dir) as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        runner.build(
+            sources=sources,
+            includes=[RTL],         # rtl/halfpoint_cmd.vh, the generated command layout
+            hdl_toplevel=toplevel,
+            parameters=parameters,
+            build_dir=build_dir,
+            build_args=build_args,
+            waves=waves,
+            log_file=log,
+            **extra,
+        )
+        fcntl.flock(lock, fcntl.LOCK_SH)
+        results = runner.test(
+            hdl_toplevel=toplevel,
+            test_module=test_module,
+            test_dir=test_dir,
+            build_dir=build_dir,
+            extra_env={k: str(v) for k, v in (extra_env or {}).items()},
+            testcase=testcase,
+            waves=waves,
+            log_file=(build_dir / "test.log") if quiet else None,
+        )
     total, failed = get_results(results)
     if failed:
         raise RuntimeError(f"{failed} of {total} cocotb tests failed ({results})")
