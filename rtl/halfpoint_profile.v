@@ -58,9 +58,10 @@
 //                  the staircase is off (a start loads it)
 //   since_q DIV    clocks since the last speed step, minus 1, saturating at
 //                  2^DIV - 1 (the model's 1 .. 2^DIV)
-//   ov_q 8, ov_part_a_q .. ov_part_d_q 38, ov_target_q 38: the override
-//                  clipped at 128, the four partial sums of its product with
-//                  v_cruise_q (the model's ov_prod) and their sum
+//   ov_q 8, ov_acc_q 38, ov_count_q 4, ov_target_q 38: the override
+//                  clipped at 128 and its product with v_cruise_q, bit by bit
+//                  (ov_acc <= v_cruise x 2^6, see there; ov_target <=
+//                  v_cruise x 2^6)
 //   cruise_level_q, accel_level_q, exit_level_q DIV+42: cruise x (2^DIV-1),
 //                  accel x (2^DIV-4), exit speed x (2^DIV-4), signed; with
 //                  exit_speed_q, exit_plus_accel_q and exit_nonzero_q
@@ -209,10 +210,8 @@ module halfpoint_profile #(
     reg           last_down_q;
     reg           dry_q;            // sticky: a dry queue forced a deceleration
     reg  [7:0]    ov_q;             // the override, clipped at 128
-    reg  [37:0]   ov_part_a_q;      // the model's ov_prod as four partial sums
-    reg  [37:0]   ov_part_b_q;
-    reg  [37:0]   ov_part_c_q;
-    reg  [37:0]   ov_part_d_q;
+    reg  [37:0]   ov_acc_q;         // the override's product so far
+    reg  [3:0]    ov_count_q;       // its steps still to go, 8 .. 0
     reg  [37:0]   ov_target_q;
     reg           past_exit_q;      // E >= d_exit a clock ago
     reg           past_stop_q;      // E >= d_stop a clock ago
@@ -509,11 +508,11 @@ module halfpoint_profile #(
     wire          dry_now = cur_valid_q && ramp_on_n && ramp_dry_n && ramp_step;
 
     // ------------------------------------------------------------------
-    // Target of the next clock: the least of the override on the cruise
-    // speed, the cruise speed and the running staircase; 0 under hold or
-    // stop or without a segment
+    // Target of the next clock: the least of the cruise speed, the override
+    // on it (below 128 only: ov_q[7] is ov_q = 128) and the running
+    // staircase; 0 under hold or stop or without a segment
     // ------------------------------------------------------------------
-    wire          ov_under_cruise = (ov_target_q < cruise);
+    wire          ov_under_cruise = !ov_q[7] && (ov_target_q < cruise);
     wire          ramp_under_ov = (ramp_v_q < ov_target_q);
     wire          ramp_under_cruise = (ramp_v_q < cruise);
     wire [37:0]   target_base = ov_under_cruise ? ov_target_q : cruise;
@@ -522,31 +521,19 @@ module halfpoint_profile #(
     wire [37:0]   target_n = (!cur_valid_q || hold || stop) ? 38'd0
                              : (ramp_limits ? ramp_v_q : target_base);
 
-    // The override's product (v_cruise << 6) x ov_q >> 7 with ov_q <= 128:
-    // ov = 128 gives the cruise speed; else the sum of v_cruise << b over the
-    // set bits b < 7, shifted left by 6 and right by 7 (halved; only the
-    // b = 0 term has a bit 0, so the half is exact term by term).  Stage 1
-    // registers four partial sums (the model's ov_prod), stage 2 their sum
-    // (ov_target).
+    // The override's product (v_cruise << 6) x ov_q >> 7 = v_cruise x ov_q
+    // >> 1 (ov_q <= 128), bit by bit from the top, one add a clock (Horner):
+    // ov_acc = 2 ov_acc + v_cruise where the override's bit is set, 8 steps.
+    // An edge that changes ov_q, or takes a segment while ov_q < 128 (at 128
+    // the target does not read the product), restarts it; the eighth step
+    // writes ov_target (profile.OVERRIDE_STEPS) and leaves ov_acc.  After
+    // k < 8 steps ov_acc is v_cruise x (ov_q's top k bits) <= v_cruise x 2^6
+    // < 2^38 (ov_q <= 128); the last sum, < 2^39, goes to ov_target halved.
     wire [7:0]    ov_n = (feed_override > OVERRIDE_ONE) ? OVERRIDE_ONE : feed_override;
-    wire [37:0]   ov_term0 = ov_q[0] ? {7'd0, v_cruise_q[31:1]} : 38'd0;
-    wire [37:0]   ov_term1 = ov_q[1] ? {6'd0, v_cruise_q}       : 38'd0;
-    wire [37:0]   ov_term2 = ov_q[2] ? {5'd0, v_cruise_q, 1'b0} : 38'd0;
-    wire [37:0]   ov_term3 = ov_q[3] ? {4'd0, v_cruise_q, 2'd0} : 38'd0;
-    wire [37:0]   ov_term4 = ov_q[4] ? {3'd0, v_cruise_q, 3'd0} : 38'd0;
-    wire [37:0]   ov_term5 = ov_q[5] ? {2'd0, v_cruise_q, 4'd0} : 38'd0;
-    wire [37:0]   ov_term6 = ov_q[6] ? {1'd0, v_cruise_q, 5'd0} : 38'd0;
-    wire [37:0]   ov_term7 = ov_q[7] ? cruise : 38'd0;
-    // stage 2: four partial sums by two carry-save levels and one chain
-    wire [37:0]   ov_x = ov_part_a_q ^ ov_part_b_q ^ ov_part_c_q;
-    wire [36:0] ov_m = (ov_part_a_q[36:0] & ov_part_b_q[36:0])
-                       | (ov_part_a_q[36:0] & ov_part_c_q[36:0])
-                         | (ov_part_b_q[36:0] & ov_part_c_q[36:0]);
-    wire [37:0]   ov_y = {ov_m, 1'b0};
-    wire [37:0]   ov_x2 = ov_x ^ ov_y ^ ov_part_d_q;
-    wire [36:0] ov_m2 = (ov_x[36:0] & ov_y[36:0]) | (ov_x[36:0] & ov_part_d_q[36:0])
-                        | (ov_y[36:0] & ov_part_d_q[36:0]);
-    wire [37:0]   ov_sum = ov_x2 + {ov_m2, 1'b0};
+    wire          ov_restart = (ov_n != ov_q) || (take_now && !ov_q[7]);
+    wire [2:0]    ov_bit_index = ov_count_q[2:0] - 3'd1;
+    wire [38:0]   ov_addend = ov_q[ov_bit_index] ? {7'd0, v_cruise_q} : 39'd0;
+    wire [38:0]   ov_acc_n = {ov_acc_q, 1'b0} + ov_addend;
 
     // ------------------------------------------------------------------
     // Speed: one step of accel towards the registered target, same-direction
@@ -622,10 +609,8 @@ module halfpoint_profile #(
             tick_done_q <= 1'b1;
             last_up_q   <= 1'b0;
             last_down_q <= 1'b0;
-            ov_part_a_q <= 38'd0;
-            ov_part_b_q <= 38'd0;
-            ov_part_c_q <= 38'd0;
-            ov_part_d_q <= 38'd0;
+            ov_acc_q    <= 38'd0;
+            ov_count_q  <= 4'd0;
             ov_target_q <= 38'd0;
             past_exit_q <= 1'b0;
             past_stop_q <= 1'b0;
@@ -648,11 +633,18 @@ module halfpoint_profile #(
                 tick_done_q <= (since_q == SINCE_LAST);
             end
             // the override's product
-            ov_part_a_q <= ov_term0 + ov_term1;
-            ov_part_b_q <= ov_term2 + ov_term3;
-            ov_part_c_q <= ov_term4 + ov_term5;
-            ov_part_d_q <= ov_term6 | ov_term7;
-            ov_target_q <= ov_sum;
+            // the override's product, one bit a clock
+            if (ov_restart) begin
+                ov_count_q <= 4'd8;
+                ov_acc_q   <= 38'd0;
+            end else if (ov_count_q != 4'd0) begin
+                ov_count_q <= ov_count_q - 4'd1;
+                if (ov_count_q == 4'd1) begin
+                    ov_target_q <= ov_acc_n[38:1];
+                end else begin
+                    ov_acc_q <= ov_acc_n[37:0];
+                end
+            end
             // credit and distance
             credit_q        <= pop_now ? credit_popped : credit_rest;
             covers_axis_q     <= pop_now ? axis_popped : axis_rest;

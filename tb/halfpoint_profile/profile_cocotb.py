@@ -594,10 +594,8 @@ class Monitor:
         d = self.inner
         got = {k: int(getattr(d, k + "_q").value) for k in (
             "cur_valid", "accel", "v_cruise", "v", "target", "credit", "gain", "s", "since",
-            "last_up", "last_down", "dry", "ov", "ov_target", "past_exit", "past_stop",
-            "ramp_on", "ramp_dry", "ramp_v", "tick_done")}
-        # the model's ov_prod is held as four partial sums
-        got["ov_prod"] = sum(int(getattr(d, f"ov_part_{k}_q").value) for k in "abcd")
+            "last_up", "last_down", "dry", "ov", "ov_acc", "ov_count", "ov_target",
+            "past_exit", "past_stop", "ramp_on", "ramp_dry", "ramp_v", "tick_done")}
         # the credit's compares with the axis and diagonal costs (always) and the
         # whole part of the credit less the line cost (with a segment), whose sign
         # is the third compare the pop uses
@@ -647,8 +645,8 @@ def model_registers(model: ProfileStage, fresh: bool = False) -> dict:
             "credit": model.credit, "gain": 0 if model.full else model.v, "s": model.s,
             "since": model.since - 1,
             "last_up": int(model.last_dir == 1), "last_down": int(model.last_dir == -1),
-            "dry": model.dry, "ov": model.ov_q, "ov_prod": model.ov_prod,
-            "ov_target": model.ov_target, "past_exit": int(model.past_exit),
+            "dry": model.dry, "ov": model.ov_q, "ov_acc": model.ov_acc,
+            "ov_count": model.ov_count, "ov_target": model.ov_target, "past_exit": int(model.past_exit),
             "past_stop": int(model.past_stop), "ramp_on": int(model.ramp_on),
             "ramp_dry": int(model.ramp_dry), "ramp_v": model.ramp_v}
     want["covers_axis"] = int(model.credit >= pf.COST_AXIS << pf.COST_SHIFT)
@@ -937,11 +935,12 @@ async def dry_returns_and_aligned_speeds(dut):
 @cocotb.test()
 async def override_products(dut):
     """The override's product with many cruise speeds: a profile is taken under hold
-    (the speed stays 0), the override changes on each of the next four clocks (most
-    often values below 128 with most bits set, whose partial sums carry into each
-    other), and a stop at rest drops the segment; the product's registers and the
+    (the speed stays 0), the override changes on 0 to 3 of the next clocks (each
+    change restarts the bit-by-bit product), then stays long enough for the product
+    to finish (most often values below 128 with most bits set, whose steps carry
+    far), and a stop at rest drops the segment; the product's registers and the
     target compared every clock.  (Written for the mutation run of issue 17: a
-    carry of the product's second stage needs such overrides and cruise speeds.)"""
+    carry of the product needs such overrides and cruise speeds.)"""
     bind(dut)
     bench = Bench(dut, SEED + 300)
     await bench.start()
@@ -954,10 +953,13 @@ async def override_products(dut):
         profile = ProfileParams(cruise, rng.randint(0, cruise), rng.randint(1, TOP_ACCEL))
         await bench.step(ProfileInputs(next_valid=1, next_profile=profile, hold=1,
                                        override=override()), "override products")
-        for _ in range(4):
+        for _ in range(rng.randint(0, 3)):
             await bench.step(ProfileInputs(hold=1, override=override()), "override products")
-        await bench.step(ProfileInputs(hold=1, stop=1, override=override()),
-                         "override products")
+        last = override()
+        for _ in range(pf.OVERRIDE_STEPS + 1):
+            await bench.step(ProfileInputs(hold=1, override=last), "override products")
+        assert bench.model.override_settled()
+        await bench.step(ProfileInputs(hold=1, stop=1, override=last), "override products")
     bench.report("override products")
     assert bench.checker.seen["take"] == 150 and bench.checker.seen["stopped"] == 150
 

@@ -339,6 +339,63 @@ def test_override_changes_ramp_instead_of_jumping():
         assert res.v[t] - res.v[t + 1] <= accel
 
 
+
+def test_override_product_is_bit_by_bit_and_lands_eight_clocks_after_a_change():
+    """The target's override product is one add a clock (OVERRIDE_STEPS of them): an
+    override change restarts it, the old product holds until its eighth step, which
+    writes (v_cruise << 6) * ov >> 7 exactly; a change during the steps starts over.
+    (Before 2026-11-28 it was a two-clock pipeline of partial sums.)"""
+    rng = random.Random(5)
+    for _ in range(200):
+        stage = ProfileStage(4)
+        vc = rng.randint(1, (1 << 32) - 1)
+        prof = ProfileParams(vc, 0, 1 << 20, 0, 1 << 30, 1 << 30)
+        stage.clock(ProfileInputs(next_valid=1, next_profile=prof, hold=1))  # take at 128
+        assert stage.v_cruise == vc and stage.ov_count == 0
+        assert stage.ov_target == 0                              # never computed
+        first = rng.randint(0, 127)
+        ov = rng.choice([x for x in (rng.randint(0, 127), 127, 64, 1) if x != first])
+        stage.clock(ProfileInputs(hold=1, override=first))       # ov_q changes: restart
+        assert stage.ov_count == pf.OVERRIDE_STEPS
+        for _ in range(rng.randint(0, pf.OVERRIDE_STEPS - 1)):   # cut short by a change
+            stage.clock(ProfileInputs(hold=1, override=first))
+        stage.clock(ProfileInputs(hold=1, override=ov))
+        assert stage.ov_count == pf.OVERRIDE_STEPS
+        for _ in range(pf.OVERRIDE_STEPS - 1):
+            stage.clock(ProfileInputs(hold=1, override=ov))
+            assert stage.ov_target == 0                          # the old product holds
+        stage.clock(ProfileInputs(hold=1, override=ov))
+        assert stage.ov_count == 0 and stage.override_settled()
+        assert stage.ov_target == ((vc << SPEED_SHIFT) * ov) >> 7
+        assert stage.next_target(False) == min(vc << SPEED_SHIFT, stage.ov_target)
+
+
+def test_full_override_reads_no_product_so_a_take_counts_at_once():
+    """At 128 (100 %) the target is the cruise speed itself: a take of a faster
+    segment raises the target at its first clock and restarts nothing; below 128 a
+    take restarts the product, and the target stays at the stale product (bounded by
+    the new cruise speed) until it lands."""
+    slow = ProfileParams(1 << 20, 0, 1 << 20, 0, 1 << 30, 1 << 30)
+    fast = ProfileParams(1 << 28, 0, 1 << 20, 0, 1 << 30, 1 << 30)
+    for ov in (OVERRIDE_ONE, 100):
+        stage = ProfileStage(4)
+        stage.clock(ProfileInputs(next_valid=1, next_profile=slow, hold=1, override=ov))
+        for _ in range(2 * pf.OVERRIDE_STEPS):
+            stage.clock(ProfileInputs(hold=1, override=ov))
+        stage.clock(ProfileInputs(hold=1, stop=1, override=ov))  # at rest: drops slow
+        assert stage.cur is None
+        stage.clock(ProfileInputs(next_valid=1, next_profile=fast, override=ov))
+        assert stage.cur is fast
+        stage.clock(ProfileInputs(override=ov))
+        if ov == OVERRIDE_ONE:
+            assert stage.ov_count == 0 and stage.target == fast.v_cruise << SPEED_SHIFT
+            continue
+        assert stage.ov_count == pf.OVERRIDE_STEPS - 1
+        assert stage.target == ((slow.v_cruise << SPEED_SHIFT) * ov) >> 7
+        for _ in range(pf.OVERRIDE_STEPS):
+            stage.clock(ProfileInputs(override=ov))
+        assert stage.target == ((fast.v_cruise << SPEED_SHIFT) * ov) >> 7
+
 def test_reduced_override_does_not_creep_to_the_end():
     """At half override the exit staircase is followed in distance, so the segment
     takes about twice as long, not the creep speed over the rest of the planned

@@ -35,7 +35,7 @@ quiet when, on every one of its clocks:
   has not reached a tick since a step in the same direction), its exit staircase
   neither starts (the registered compares past d_exit / past d_stop low) nor steps
   (its remainder not negative), its credit does not reach the cap;
-* the hold input does not change and the override's pipeline (registered override,
+* the hold input does not change and the override's product (registered override,
   product, target) and the registered target have settled.
 
 In such a stretch the credit grows by v per clock (or stays at its cap), the
@@ -188,16 +188,6 @@ def _static(m: CoreModel, more: bool):
     return running
 
 
-def _target_next(st, cur, hold: int) -> int:
-    """``ProfileStage._next_target`` of a quiet clock (the registers it reads constant)."""
-    if cur is None or hold:
-        return 0
-    target = min(st.ov_target, cur.v_cruise << pf.SPEED_SHIFT)
-    if st.ramp_on:
-        target = min(target, st.ramp_v)
-    return target
-
-
 def _stage_clocks(m: CoreModel, running, more: bool, hold: int, ovq: int, limit: int) -> int:
     """Number of clocks from now (at most ``limit``) over which the profile stage is
     quiet (module docstring), 0 if this clock is not; the STEP/DIR generators follow
@@ -205,13 +195,10 @@ def _stage_clocks(m: CoreModel, running, more: bool, hold: int, ovq: int, limit:
     (target, credit at its cap, past d_exit / d_stop, the override's product) must be
     settled or, for the compares, found by the same closed forms."""
     st = m.stage
-    if st.ov_q != ovq:
-        return 0
-    prod = ((st.v_cruise << pf.SPEED_SHIFT) * st.ov_q) >> 7
-    if st.ov_prod != prod or st.ov_target != prod:
+    if st.ov_q != ovq or not st.override_settled():
         return 0
     cur = st.cur
-    if st.target != _target_next(st, cur, hold):
+    if st.target != st.next_target(bool(hold)):
         return 0
     k = limit
     if cur is None:
@@ -311,8 +298,7 @@ def _try_pop(m: CoreModel, hold: int, ovq: int) -> bool:
     cur = st.cur
     if cur is None or not m.moves or st.ov_q != ovq:
         return False
-    prod = ((st.v_cruise << pf.SPEED_SHIFT) * st.ov_q) >> 7
-    if st.ov_prod != prod or st.ov_target != prod or st.target != _target_next(st, cur, hold):
+    if not st.override_settled() or st.target != st.next_target(bool(hold)):
         return False
     head = m.moves[0]
     if head.last:

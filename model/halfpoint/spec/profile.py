@@ -46,8 +46,12 @@ ramp_v            38    2^-38 BLU/clock     the exit staircase's speed, <= v_cru
 ramp_left     DIV+42    2^-38 BLU           signed; a level is < 2^(DIV+38) + 2^40;
                                             saturates at -2^(DIV+40) (see below)
 target            38    2^-38 BLU/clock     <= v_cruise x 2^6, registered a clock ahead
-ov_prod, ov_target 38   2^-38 BLU/clock     (v_cruise << 6) * ov_q >> 7 <= v_cruise x 2^6,
-                                            two clocks of pipeline
+ov_acc            38    2^-32 BLU/clock     the override's product, bit by bit: after
+                                            k < 8 steps v_cruise x (ov_q's top k of 8
+                                            bits) <= v_cruise x 2^6 (ov_q <= 128)
+ov_target         38    2^-38 BLU/clock     (v_cruise << 6) * ov_q >> 7 = ov_acc >> 1
+                                            <= v_cruise x 2^6
+ov_count           4    steps               8 .. 1 while the product runs, 0 when done
 credit            42    2^-38 BLU           < cap + 2 v (v is added on the clock after
                                             it reached the cap, cap = 2 * largest
                                             cost <= 2^41 - 2^23), and < 2^41 + 2^39
@@ -106,14 +110,21 @@ of this clock and used on the next one:
   instead of finishing the ramp early and creeping the rest.  If the next profile
   arrives while it heads for the creep speed, it returns to the plan (off before
   d_exit, else floor back to the exit speed).
-* the override's product ``(v_cruise << 6) * ov >> 7`` (ov in 1/128, 0..128,
-  registered as ``ov_q``; a shift-add of 8 terms) is two clocks of pipeline
-  (``ov_prod``, ``ov_target``) from the ``v_cruise`` register (the last current
-  segment's, kept after it ends), so on a segment's first two clocks it is still
-  the previous segment's.
+* the override's product ``(v_cruise << 6) * ov >> 7`` = ``v_cruise * ov >> 1`` (ov in
+  1/128, 0..128, registered as ``ov_q``) is computed bit by bit, one add a clock
+  (``ov_acc``: twice itself plus ``v_cruise`` where the override's bit is set, its 8
+  bits from the top; the eighth sum goes to ``ov_target`` only), from the ``v_cruise`` register (the last current segment's,
+  kept after it ends): an edge that changes ``ov_q``, or takes a segment while the
+  override is below 128, restarts it (``ov_count`` = 8), and its eighth step
+  writes ``ov_target``, so ``ov_target`` is the new product 8 clocks after the
+  edge that changed an operand and the old one until then (``OVERRIDE_STEPS``).
+  At 128 the product is not read (below), so a take leaves it as it is.  The override changes rarely and the speed
+  steps once a tick, so one adder replaces the eight-term shift-add.
 * the target, registered: 0 under ``hold`` or ``stop`` or with no segment; else the
-  least of ``ov_target``, the cruise speed (which bounds the stale product of a
-  segment's first clocks) and the staircase while it runs.
+  least of the cruise speed, ``ov_target`` unless the override is 128 (100 %: the
+  product would be the cruise speed, so a take needs no product), and the
+  staircase while it runs.  The cruise speed also bounds the stale product of a
+  segment's first clocks.
 * the speed steps by ``accel`` towards the registered target (never past it); two
   steps in the same direction are at least 2^DIV clocks apart, a step in the
   other direction may come at once.  So in any window of 2^DIV clocks the speed
@@ -199,6 +210,7 @@ ACCEL_BITS = 34                     # speed step < 2^-4 BLU per clock
 LINE_COST_BITS = 18                 # line cost < 4 BLU
 DIST_EXTRA_BITS = 3                 # a segment is < 2^(W + 3) BLU long
 OVERRIDE_ONE = 128                  # the override in 1/128 (128 = 100 %)
+OVERRIDE_STEPS = 8                  # clocks of the override's bit-by-bit product
 POWER_FULL = OUTPUT_POWER_FULL      # a profile's power field at 100 %, as an OUTPUT's
 CREDIT_CEILING = 1 << 41            # credit units: above every cap; no gain at or above it
 
@@ -336,8 +348,8 @@ class ProfileStage:
     ahead), ``credit``, ``full`` (the credit was at its cap), ``s`` (popped distance
     in the segment), ``since`` / ``last_dir`` (the step cadence), ``cur`` (the
     current profile, with ``accel`` and ``v_cruise`` kept after it ends), ``ov_q``
-    (override), ``ov_prod`` / ``ov_target`` (its product with the cruise speed, two
-    clocks of pipeline), ``dry`` (sticky), ``past_exit`` / ``past_stop`` (the earned
+    (override), ``ov_acc`` / ``ov_count`` / ``ov_target`` (its product with the cruise
+    speed, bit by bit: ``OVERRIDE_STEPS`` clocks), ``dry`` (sticky), ``past_exit`` / ``past_stop`` (the earned
     distance compared with d_exit / d_stop a clock earlier) and the exit staircase:
     ``ramp_on``, ``ramp_dry``, ``ramp_v`` (its speed), ``ramp_left`` (distance, BLU x
     2^38, before its next step; DIV + 42 bits signed, saturating at
@@ -364,8 +376,9 @@ class ProfileStage:
         self.last_dir = 0           # direction of the last speed step (+1, -1, 0)
         self.dry = 0
         self.ov_q = OVERRIDE_ONE    # the override input, registered
-        self.ov_prod = 0            # (v_cruise << 6) * ov_q >> 7 of the clock before
-        self.ov_target = 0          # ov_prod of the clock before
+        self.ov_acc = 0             # the product so far (v_cruise x ov_q's top bits)
+        self.ov_count = 0           # its steps still to go (0: ov_target is done)
+        self.ov_target = 0          # (v_cruise << 6) * ov_q >> 7 once done
         self.past_exit = False
         self.past_stop = False
         self.ramp_on = False
@@ -459,22 +472,46 @@ class ProfileStage:
         self._ramp(i, w)
         return w
 
-    def _next_target(self, i: ProfileInputs) -> int:
+    def next_target(self, halt: bool) -> int:
         """The target of the next clock, from this clock's registers: 0 under hold or
-        stop or with no segment, else the least of the override on the cruise speed,
-        the cruise speed and (while it runs) the exit staircase."""
+        stop (``halt``) or with no segment, else the least of the cruise speed, the
+        override on it (unless it is 100 %) and (while it runs) the exit staircase."""
         cur = self.cur
-        if cur is None or i.hold or i.stop:
+        if cur is None or halt:
             return 0
-        target = min(self.ov_target, cur.v_cruise << SPEED_SHIFT)
+        target = cur.v_cruise << SPEED_SHIFT
+        if self.ov_q != OVERRIDE_ONE:
+            target = min(target, self.ov_target)
         if self.ramp_on:
             target = min(target, self.ramp_v)
         return target
 
+    def override_settled(self) -> bool:
+        """Whether the override's product is done and, where the target reads it
+        (override below 128), that of the registers now: it then stays as it is
+        until an edge changes an operand."""
+        return self.ov_count == 0 and (
+            self.ov_q == OVERRIDE_ONE or self.ov_target == (self.v_cruise * self.ov_q) >> 1)
+
+    def _override_step(self, restart: bool) -> None:
+        """The override's product at an edge, from this clock's ``ov_q`` and
+        ``v_cruise``: restarted by an edge that changes either, else one bit."""
+        if restart:
+            self.ov_count, self.ov_acc = OVERRIDE_STEPS, 0
+        elif self.ov_count:
+            self.ov_count -= 1
+            bit = (self.ov_q >> self.ov_count) & 1
+            acc = (self.ov_acc << 1) + (self.v_cruise if bit else 0)
+            if self.ov_count:
+                self.ov_acc = acc
+            else:
+                self.ov_target = acc >> 1   # the last step leaves ov_acc
+
     def clock(self, i: ProfileInputs) -> ProfileView:
         """One rising edge; returns the view of the clock that ended.  ``abort``: the
         edge clears the segment, speed, target, credit, staircase, cadence and the
-        override's product (not ``dry``; the override is registered as on any edge)
+        override's product, which then stands done at 0 (not ``dry``; the override is
+        registered as on any edge)
         and pops nothing."""
         if i.abort:
             dry = self.dry
@@ -495,10 +532,9 @@ class ProfileStage:
             self.last_dir, self.since = direction, 1
         elif self.since < self.tick:
             self.since += 1
-        self.target = self._next_target(i)
-        # the override's product, two clocks of pipeline
-        self.ov_target = self.ov_prod
-        self.ov_prod = ((self.v_cruise << SPEED_SHIFT) * self.ov_q) >> 7
+        self.target = self.next_target(bool(i.hold or i.stop))
+        self._override_step(min(i.override, OVERRIDE_ONE) != self.ov_q
+                            or (w.take and self.ov_q != OVERRIDE_ONE))
         # registered compares of this clock's registers, for the next clock
         cur = self.cur
         full = past_exit = past_stop = False
@@ -605,8 +641,8 @@ def exit_distance(length: int, v_entry: int, v_peak: int, v_exit: int, accel: in
     staircase before it, and the last move is made at the exit speed.
     ``accelerates``: from v_entry the stage surely reaches v_peak before d_exit
     (worst phase of its steps up, ``accel_distance``, plus a tick and four clocks:
-    the target register and the override product's pipeline may hold the first
-    step back or clamp it); else it may start the staircase below the peak and end
+    the target register may hold the first step back or clamp it; the override's
+    product does not, at the 100 % the plan is for); else it may start the staircase below the peak and end
     it early (it then runs the rest at the exit speed: slower, never faster)."""
     vp = v_peak << SPEED_SHIFT
     vin = v_entry << SPEED_SHIFT
