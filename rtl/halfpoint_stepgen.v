@@ -162,16 +162,17 @@ module halfpoint_stepgen #(
     // low_time_n is low_time_q + 1 (saturating), so it reaches a setting iff
     // low_time_q + 1 does (low_time_plus_q, a register: the settings meet one
     // carry chain, no arithmetic of their own in front of it); at the HIGH
-    // state's end it is 1; otherwise it is low_time_q
+    // state's end it is 1.  space_ok_q and hold_ok_q are read only in LOW
+    // (readiness is in_low and them), and LOW is entered only from the HIGH
+    // state's end, which writes them, so in SETUP and in HIGH before its end
+    // they take the LOW compares too, unread (no compares of low_time_q)
     wire          space_counting = (low_time_plus_q >= {1'b0, cfg_stepspace});
     wire          hold_counting  = (low_time_plus_q >= {1'b0, cfg_dirhold});
     wire          space_at_one   = (cfg_stepspace[TW-1:1] == {(TW-1){1'b0}});
     wire          hold_at_one    = (cfg_dirhold[TW-1:1] == {(TW-1){1'b0}});
-    wire          space_kept     = (low_time_q >= cfg_stepspace);
-    wire          hold_kept      = (low_time_q >= cfg_dirhold);
     wire          high_ends = !in_low && state_q != STATE_SETUP && count_q <= ONE_T;
-    wire          space_ok_n = in_low ? space_counting : (high_ends ? space_at_one : space_kept);
-    wire          hold_ok_n  = in_low ? hold_counting : (high_ends ? hold_at_one : hold_kept);
+    wire          space_ok_n = high_ends ? space_at_one : space_counting;
+    wire          hold_ok_n  = high_ends ? hold_at_one : hold_counting;
 
     // readiness at the next clock without a take at this edge: LOW stays LOW,
     // HIGH ends on its last clock (low_time_n does not depend on the take)
@@ -439,9 +440,12 @@ module halfpoint_stepgen #(
             i_hi: assert(f_step_d == (f_hi != F_ZERO));
             i_lo: assert(f_step_d == (f_lo == F_ZERO));
             i_sd: assert(f_sd != F_ZERO);
-            i_space: assert(space_ok_q == (low_time_q >= f_stepspace_q));
+            // space_ok_q and hold_ok_q are meaningful (and read) in LOW only
+            if (state_q == STATE_LOW) begin
+                i_space: assert(space_ok_q == (low_time_q >= f_stepspace_q));
+                i_hold: assert(hold_ok_q == (low_time_q >= f_dirhold_q));
+            end
             i_low_time_plus: assert(low_time_plus_q == {1'b0, low_time_q} + {{TW{1'b0}}, 1'b1});
-            i_hold: assert(hold_ok_q == (low_time_q >= f_dirhold_q));
             i_owed: assert(f_owed == (state_q == STATE_SETUP || f_rise));
             if (f_owed)
                 i_owed_dir: assert(f_owed_dir == dir_q);
