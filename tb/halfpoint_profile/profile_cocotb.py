@@ -646,8 +646,9 @@ def model_registers(model: ProfileStage, fresh: bool = False) -> dict:
             "since": model.since - 1,
             "last_up": int(model.last_dir == 1), "last_down": int(model.last_dir == -1),
             "dry": model.dry, "ov": model.ov_q, "ov_acc": model.ov_acc,
-            "ov_count": model.ov_count, "ov_target": model.ov_target, "past_exit": int(model.past_exit),
-            "past_stop": int(model.past_stop), "ramp_on": int(model.ramp_on),
+            "ov_count": model.ov_count, "ov_target": model.ov_target,
+            "past_exit": int(model.past_exit), "past_stop": int(model.past_stop),
+            "ramp_on": int(model.ramp_on),
             "ramp_dry": int(model.ramp_dry), "ramp_v": model.ramp_v}
     want["covers_axis"] = int(model.credit >= pf.COST_AXIS << pf.COST_SHIFT)
     want["covers_diagonal"] = int(model.credit >= pf.COST_DIAG << pf.COST_SHIFT)

@@ -111,15 +111,16 @@ of this clock and used on the next one:
   arrives while it heads for the creep speed, it returns to the plan (off before
   d_exit, else floor back to the exit speed).
 * the override's product ``(v_cruise << 6) * ov >> 7`` = ``v_cruise * ov >> 1`` (ov in
-  1/128, 0..128, registered as ``ov_q``) is computed bit by bit, one add a clock
-  (``ov_acc``: twice itself plus ``v_cruise`` where the override's bit is set, its 8
-  bits from the top; the eighth sum goes to ``ov_target`` only), from the ``v_cruise`` register (the last current segment's,
-  kept after it ends): an edge that changes ``ov_q``, or takes a segment while the
-  override is below 128, restarts it (``ov_count`` = 8), and its eighth step
-  writes ``ov_target``, so ``ov_target`` is the new product 8 clocks after the
-  edge that changed an operand and the old one until then (``OVERRIDE_STEPS``).
-  At 128 the product is not read (below), so a take leaves it as it is.  The override changes rarely and the speed
-  steps once a tick, so one adder replaces the eight-term shift-add.
+  1/128, 0..128, registered as ``ov_q``) is computed bit by bit from the ``v_cruise``
+  register (the last current segment's, kept after it ends), one add a clock:
+  ``ov_acc`` becomes twice itself plus ``v_cruise`` where the override's bit is set,
+  its 8 bits from the top (``OVERRIDE_STEPS``), and the eighth sum, halved, goes to
+  ``ov_target``.  An edge that changes ``ov_q``, or takes a segment while the
+  override is below 128, restarts it (``ov_count`` = 8), so ``ov_target`` is the new
+  product 8 clocks after the edge that changed an operand and the old one until
+  then.  At 128 the product is not read (below), so a take leaves it as it is.  The
+  override changes rarely and the speed steps once a tick: one adder replaces the
+  eight-term shift-add.
 * the target, registered: 0 under ``hold`` or ``stop`` or with no segment; else the
   least of the cruise speed, ``ov_target`` unless the override is 128 (100 %: the
   product would be the cruise speed, so a take needs no product), and the
@@ -349,8 +350,9 @@ class ProfileStage:
     in the segment), ``since`` / ``last_dir`` (the step cadence), ``cur`` (the
     current profile, with ``accel`` and ``v_cruise`` kept after it ends), ``ov_q``
     (override), ``ov_acc`` / ``ov_count`` / ``ov_target`` (its product with the cruise
-    speed, bit by bit: ``OVERRIDE_STEPS`` clocks), ``dry`` (sticky), ``past_exit`` / ``past_stop`` (the earned
-    distance compared with d_exit / d_stop a clock earlier) and the exit staircase:
+    speed, bit by bit: ``OVERRIDE_STEPS`` clocks), ``dry`` (sticky), ``past_exit`` /
+    ``past_stop`` (the earned distance compared with d_exit / d_stop a clock earlier)
+    and the exit staircase:
     ``ramp_on``, ``ramp_dry``, ``ramp_v`` (its speed), ``ramp_left`` (distance, BLU x
     2^38, before its next step; DIV + 42 bits signed, saturating at
     -``ramp_left_floor``)."""
@@ -511,8 +513,7 @@ class ProfileStage:
         """One rising edge; returns the view of the clock that ended.  ``abort``: the
         edge clears the segment, speed, target, credit, staircase, cadence and the
         override's product, which then stands done at 0 (not ``dry``; the override is
-        registered as on any edge)
-        and pops nothing."""
+        registered as on any edge) and pops nothing."""
         if i.abort:
             dry = self.dry
             self.reset()
@@ -642,8 +643,9 @@ def exit_distance(length: int, v_entry: int, v_peak: int, v_exit: int, accel: in
     ``accelerates``: from v_entry the stage surely reaches v_peak before d_exit
     (worst phase of its steps up, ``accel_distance``, plus a tick and four clocks:
     the target register may hold the first step back or clamp it; the override's
-    product does not, at the 100 % the plan is for); else it may start the staircase below the peak and end
-    it early (it then runs the rest at the exit speed: slower, never faster)."""
+    product does not, at the 100 % the plan is for); else it may start the staircase
+    below the peak and end it early (it then runs the rest at the exit speed: slower,
+    never faster)."""
     vp = v_peak << SPEED_SHIFT
     vin = v_entry << SPEED_SHIFT
     vout = v_exit << SPEED_SHIFT if v_exit else accel
