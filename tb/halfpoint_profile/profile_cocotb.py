@@ -35,6 +35,9 @@ SEED = int(os.environ.get("HP_SEED", "1"))
 CLOCKS = int(os.environ.get("HP_PROFILE_CLOCKS", "15000"))    # per test, roughly
 # 1: also run long_segment (about 2^(W - 1) clocks; the mutation flow sets it)
 LONG = os.environ.get("HP_PROFILE_LONG", "0") == "1"
+# rounds of the random corner programs: more with HP_PROFILE_LONG (the mutation run),
+# where a kill should not hang on one draw
+ROUNDS = 3 if LONG else 1
 # 0: compare the pins only (the view and the registered outputs), not the internal
 # registers (a measure of what the pins alone tell: the equivalence the mutation
 # flow's --prove checks is at the ports)
@@ -473,7 +476,7 @@ def override_staircase_program(rng) -> tuple:
 FLOORS_NEAR_CRUISE = ("creep_above", "creep_below", "exit_below")
 
 
-def floor_near_cruise_program(rng, kind: str) -> Program:
+def floor_near_cruise_program(rng, kind: str, offset: int = 0) -> Program:
     """One segment (axis and diagonal moves) whose exit staircase starts at once
     (d_exit 0) and whose floor lies just off its cruise speed: the creep speed
     (v_exit 0: the floor is the speed step) 1 to 4 LSB above the cruise speed
@@ -482,12 +485,13 @@ def floor_near_cruise_program(rng, kind: str) -> Program:
     field LSB (64 to 32,704 LSB) below it (``exit_below``, the planner's exit a hair
     under the cruise speed).  The target's choice between the staircase and the
     cruise speed is then decided this close to its threshold.  Speed steps near the
-    cruise speed keep the cruise speed below 2^28 field LSB (1/16 BLU per clock)."""
+    cruise speed keep the cruise speed below 2^28 field LSB (1/16 BLU per clock).
+    ``offset`` (1 to 4) fixes ``creep_above``'s distance, else it is random."""
     v_cruise = rng.randint(1 << 25, (1 << 28) - 1)
     cruise = v_cruise << pf.SPEED_SHIFT
     v_exit = 0
     if kind == "creep_above":
-        accel = min(cruise + rng.randint(1, 4), TOP_ACCEL)
+        accel = min(cruise + (offset or rng.randint(1, 4)), TOP_ACCEL)
     elif kind == "creep_below":
         accel = cruise - rng.choice((rng.randint(1, 4), rng.randint(1, (1 << 15) - 1)))
     else:
@@ -497,6 +501,22 @@ def floor_near_cruise_program(rng, kind: str) -> Program:
     profile = ProfileParams(v_cruise, v_exit, accel, 0, 0, 0)
     profile.check(W)
     return Program("raw", [profile], [moves], [0])
+
+
+def dry_floor_program(rng) -> Program:
+    """One segment with an exit speed and no next profile, its dry staircase started
+    at once (d_stop 0) and stepping straight to its floor, the creep speed ``accel``
+    (larger than half the cruise speed), a tick later, with moves left to run at the
+    floor: the level kept for the next step down is then 4 accel, every bit of a
+    random accel with bit 17 set (the bits of a speed step below 2^18 that the
+    planned chains rarely have)."""
+    v_cruise = rng.randint(1 << 27, (1 << 28) - 1)
+    cruise = v_cruise << pf.SPEED_SHIFT
+    accel = rng.randint(cruise // 2 + 1, cruise - 1) | (1 << 17)
+    profile = ProfileParams(v_cruise, rng.randint(1, v_cruise), accel, 0,
+                            rng.randint(1 << 16, 1 << 20), 0)
+    profile.check(W)
+    return Program("raw", [profile], [moves_of(rng, False, rng.randint(40, 60))], [0])
 
 
 BELOW_TERMS = ("accel_floor", "accel_speed", "floor_speed")
@@ -852,7 +872,8 @@ async def planned_chains(dut):
         return (all(bench.checker.seen[k] for k in wanted)
                 and all(bench.stim.ends[k] for k in ends))
     # at least CLOCKS clocks, and on until every case was seen (at most 4 x CLOCKS)
-    while bench.checker.clocks < CLOCKS or (not covered() and bench.checker.clocks < 4 * CLOCKS):
+    least = ROUNDS * CLOCKS
+    while bench.checker.clocks < least or (not covered() and bench.checker.clocks < 4 * least):
         program = planned_program(bench.rng)
         events = random_events(bench.rng, program, calm=k % 4 == 0)
         await bench.run_program(program, events)
@@ -911,7 +932,7 @@ async def dry_returns_and_aligned_speeds(dut):
         program, events = dry_return_program(bench.rng, wanted, bench.model)
         assert program is not None, f"no chain with a dry return {wanted}"
         await bench.run_program(program, events)
-    for k in range(4):
+    for k in range(4 * ROUNDS):
         if k % 2:
             program, events = hold_from_cruise_program(bench.rng, bench.model)
             assert program is not None, "no chain held from its cruise speed"
@@ -1013,22 +1034,28 @@ async def aborts_holds_and_floors(dut):
     bench = Bench(dut, SEED + 600)
     await bench.start()
     rng = bench.rng
-    for _ in range(10):
+    for _ in range(10 * ROUNDS):
         events = Events(budget=3000, abort_on_pop=rng.randint(0, 300))
         await bench.run_program(planned_program(rng), events)
-    for _ in range(8):
+    for _ in range(8 * ROUNDS):
         start = rng.randint(20, 300)
         events = Events(budget=4000, holds=[(start, start + rng.randint(50, 500))],
                         stall_while_held=True)
         await bench.run_program(planned_program(rng), events)
-    for _ in range(6):
+    for _ in range(6 * ROUNDS):
         program = planned_program(rng)
         events = random_events(rng, program, calm=False)
         events.overrides.append((rng.randint(0, 50), rng.choice((96, 127, 64))))
         events.overrides.sort()
         await bench.run_program(program, events)
-    for kind in FLOORS_NEAR_CRUISE * 3:
-        await bench.run_program(floor_near_cruise_program(rng, kind), Events(budget=5000))
+    for k, kind in enumerate(FLOORS_NEAR_CRUISE * 4):
+        # creep_above at each distance 1 .. 4 (at 1 the floor is the one speed a bit
+        # of the compare with the cruise speed decides)
+        program = floor_near_cruise_program(rng, kind, offset=k // 3 + 1)
+        await bench.run_program(program, Events(budget=5000))
+    # dry staircases straight to the floor (dry_floor_program)
+    for _ in range(2):
+        await bench.run_program(dry_floor_program(rng), Events(budget=5000))
     # the dry flag set on a rising edge (a dry staircase's step), then cleared by a reset
     for _ in range(2):
         program, events = dry_return_program(rng, "below_exit", bench.model)
