@@ -193,6 +193,37 @@ def test_whole_part(machine):
     print(f"whole part: {job.blocks} blocks in {wall:.1f} s wall")
 
 
+SPINDLE = """G21 G90 G17
+M3 S12000
+G1 X2 Y1 F6000
+M8
+G1 X4 Y0
+M5 M9
+G1 X0 Y0
+M2
+"""
+
+
+def test_spindle_and_coolant_are_sent(machine):
+    """The job carries the program's spindle and coolant changes as OUTPUT commands,
+    each named by its M block, between the motion of the blocks around it, as
+    ``halfpoint run`` plans them (until 2026-11-28 ``send`` planned without the machine
+    and sent none: the board's spindle and coolant pins never switched); the board
+    runs them and ends where the motion says."""
+    job = plan_job_text(SPINDLE, machine)
+    bare = plan_job_text("\n".join(ln for ln in SPINDLE.splitlines()
+                                   if not ln.startswith("M") or ln == "M2") + "\n", machine)
+    outputs = [(i.lineno, i.block) for i in job.items
+               if i.cmd is not None and enc.decode(i.cmd)["opcode"] == enc.OP_OUTPUT]
+    assert outputs == [(2, 0), (4, 1), (6, 2)], outputs
+    assert job.blocks == bare.blocks == 3 and job.delta == bare.delta
+    with BoardSim(machine) as board:
+        status, out, err = finish(send_cli(job.path, board.url, "--quiet"))
+        res = board.stop()
+    assert status == 0, err
+    assert res.position == job.delta and res.timing == "ok", res.text
+
+
 def test_board_sim_timing_checker_catches_a_violation(machine):
     """The harness's STEP/DIR checker told to expect STEP 1 clock longer than the
     board makes it: it must report the violation and exit 1 (exit-when-idle)."""

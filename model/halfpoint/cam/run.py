@@ -26,13 +26,12 @@ from pathlib import Path
 from ..spec import encoding as enc
 from ..spec import profile as pf
 from .comp import compensate, line_ranges, to_gcode
-from .gcode import Coolant, Spindle
-from .gcode import Dwell as GcodeDwell
 from .gcode import PLANE_AXES, Move, load_tool_table, parse
 from .geom import Line, Spiral
+from .items import output_settings, plan_items_compensated
 from .machine import Machine, check_program, load_default
 from .motion import Execution, MotionPlan, build_motion, core_config, max_clocks_for, run_model
-from .planner import Dwell, OutputChange, PowerChange, Segment, estimate_time
+from .planner import Dwell, Segment, estimate_time
 from .quant import quantise
 from .summary import Summary, check_travel, summarise
 
@@ -98,110 +97,6 @@ def load_program(path: str, radius=None, tools_path=None, strict=False, window=5
     return prog, comp, summary
 
 
-def output_settings(machine: Machine, on: bool, cw: bool, speed: float, mist: bool,
-                    flood: bool) -> tuple:
-    """``encoding.encode_output``'s arguments for a spindle and coolant state: the duty
-    of S is clamp(S, min_speed, max_speed) / max_speed (S 0: 0 %); in laser mode M4 is
-    dynamic power (the duty follows the path speed) and M3 constant, outside it M4 is
-    the reverse direction."""
-    top = machine.spindle_max
-    s = 0.0 if speed <= 0 else min(max(speed, machine.spindle_min), top)
-    power = round(enc.OUTPUT_POWER_FULL * s / top)
-    laser = machine.laser_mode
-    return (power, int(on), int(on and not cw and not laser), int(laser),
-            int(on and not cw and laser), int(mist), int(flood))
-
-
-def plan_items_compensated(prog, moves, machine: Machine | None = None) -> list:
-    """The compensated ``moves`` with the program's dwells (``planner.Dwell``) and, with
-    a ``machine``, its spindle and coolant changes (``planner.OutputChange``) in program
-    order.  An event stands before the programmed move index ``before``; each
-    compensated move is traced back to its programmed move (the same object, else the
-    next programmed move of its line, in order), and the event goes before the first
-    compensated move from that index on.
-
-    Laser mode (``machine.laser_mode``, grbl's ``$32``): only a change of the laser's
-    state (on / off, M3 constant / M4 dynamic) or of the coolant is an OutputChange (a
-    stop); the power travels with the motion: before a move that needs another power
-    than the last ``planner.PowerChange`` (the first move: any), a PowerChange of it,
-    0 for a G0 or with the laser off, else the duty of S.  So an S change and the G0s
-    run without stopping; during a G0 the laser stays enabled at duty 0, as in grbl."""
-    kinds = (GcodeDwell, Spindle, Coolant) if machine is not None else (GcodeDwell,)
-    events = sorted((e for e in prog.events if isinstance(e, kinds)), key=lambda e: e.before)
-    if not events:
-        return list(moves)
-    laser = machine is not None and machine.laser_mode
-    state = {"on": False, "cw": True, "speed": 0.0, "mist": False, "flood": False}
-    # the outputs as the core has them, and as it had them before the last item when
-    # that is an OutputChange (changes with no move between them are merged into one)
-    emitted = [output_settings(machine, **state)] if machine is not None else [None]
-    before_last = [None]
-    power = [None]              # laser mode: the last PowerChange's (power, dynamic)
-    items: list = []
-
-    def same(a: tuple | None, b: tuple | None) -> bool:
-        """The same outputs (in laser mode the power aside: it travels with the motion)."""
-        if laser and a is not None and b is not None:
-            return a[1:] == b[1:]
-        return a == b
-
-    def emit(settings: tuple, lineno: int) -> None:
-        if same(settings, emitted[0]):
-            return
-        if items and isinstance(items[-1], OutputChange):
-            items.pop()
-            if same(settings, before_last[0]):
-                emitted[0] = settings
-                return
-        else:
-            before_last[0] = emitted[0]
-        items.append(OutputChange(0.0, lineno, settings))
-        emitted[0] = settings
-
-    def put(ev) -> None:
-        if isinstance(ev, GcodeDwell):
-            items.append(Dwell(ev.seconds, ev.lineno))
-            return
-        if isinstance(ev, Spindle):
-            state.update(on=ev.on, cw=ev.cw, speed=ev.speed)
-        else:
-            state.update(mist=ev.mist, flood=ev.flood)
-        emit(output_settings(machine, **state), ev.lineno)
-
-    def laser_power(m) -> None:
-        """Laser mode: the power ``m`` needs (0 for a G0 or with the laser off), with
-        the motion."""
-        if not laser:
-            return
-        want = (0, False)
-        if state["on"] and m.kind != "rapid":
-            settings = output_settings(machine, **state)
-            want = (settings[0], bool(settings[4]))        # M4: dynamic
-        if want != power[0]:
-            items.append(PowerChange(want[0], m.lineno, want[1]))
-            power[0] = want
-
-    where = {id(m): i for i, m in enumerate(prog.moves)}
-    d, p = 0, 0
-    for m in moves:
-        if id(m) in where:
-            p = where[id(m)]
-        else:
-            j = p
-            while j < len(prog.moves) and prog.moves[j].lineno != m.lineno:
-                j += 1
-            if j < len(prog.moves):
-                p = j
-        while d < len(events) and events[d].before <= p:
-            put(events[d])
-            d += 1
-        laser_power(m)
-        items.append(m)
-    for ev in events[d:]:
-        put(ev)
-    return items
-
-
 def _element(m: Move):
     """The move as a plane element and the two axes of that plane: an arc in its own
     plane (G17 X Y, G18 Z X, G19 Y Z), a line in XY."""
@@ -220,6 +115,17 @@ class EngineError(RuntimeError):
     A program the host accepted should never get here: it is a defect to report."""
 
 
+def plan_motion(prog, comp, machine: Machine, width: int = 32):
+    """The compensated program ``comp`` of ``prog`` (``load_program``) as the core's
+    command stream: its travel checked against the machine, quantised, and planned with
+    its dwells and its spindle, laser and coolant changes; ``(q, MotionPlan)``.  What
+    ``halfpoint run`` executes and ``halfpoint send`` sends."""
+    check_program(machine, comp.moves)
+    q = quantise(comp.moves, machine.blu, width)
+    return q, build_motion(q, plan_items_compensated(prog, comp.moves, machine), machine,
+                           width)
+
+
 def run_program(path: str, execute=None, radius=None, tools_path=None, strict=False,
                 machine: Machine | None = None, holds=(), window=5, width: int = 32,
                 blu=None) -> RunResult:
@@ -233,10 +139,8 @@ def run_program(path: str, execute=None, radius=None, tools_path=None, strict=Fa
         machine = replace(machine, axes=tuple(replace(a, blu_mm=float(b))
                                               for a, b in zip(machine.axes, blu)))
     prog, comp, summary = load_program(path, radius, tools_path, strict, window, machine)
-    check_program(machine, comp.moves)
+    q, motion = plan_motion(prog, comp, machine, width)
     blu = machine.blu
-    q = quantise(comp.moves, blu, width)
-    motion = build_motion(q, plan_items_compensated(prog, comp.moves, machine), machine, width)
     holds = tuple((int(a), int(b)) for a, b in holds)
     # a bound against a hung run: three times the planned time, plus holds and pauses
     planned_s = estimate_time(motion.planned)
@@ -443,4 +347,4 @@ def print_messages(path: str, messages) -> None:
 
 __all__ = ["load_program", "run_program", "plot_run", "plot_profile", "write_trace", "to_gcode",
            "print_warnings", "print_messages", "plan_items_compensated", "output_settings",
-           "RunResult", "EngineError"]
+           "plan_motion", "RunResult", "EngineError"]

@@ -25,6 +25,7 @@ from dataclasses import dataclass, field, replace
 
 from .gcode import (PLANE_AXES, Dwell, GcodeError, Move, Pause, ToolChange, arc_length,
                     arc_sweep)
+from .items import plan_items_compensated
 from .planner import estimate_time, plan
 
 AXIS_NAMES = "XYZ"
@@ -107,8 +108,7 @@ def summarise(program, machine) -> Summary:
     box = tuple(zip(lo, hi)) if program.moves else None
     dwells = [e for e in program.events if isinstance(e, Dwell)]
     # the items `halfpoint run` plans (its stops: dwells, output changes; in laser mode
-    # not an S change alone), on the programmed moves; run.py imports this module
-    from .run import plan_items_compensated
+    # not an S change alone), on the programmed moves
     seconds = estimate_time(plan(plan_items_compensated(program, program.moves, machine),
                                  machine))
     return Summary(

@@ -71,16 +71,17 @@ class Job:
 
 
 def plan_job(path: str, machine, radius=None, tools=None, strict=False) -> Job:
-    """The commands of a program (``halfpoint run``'s pipeline up to the plan)."""
-    from ..cam.machine import check_program
-    from ..cam.motion import Pause, build_motion
-    from ..cam.quant import quantise
-    from ..cam.run import load_program, plan_items_compensated
+    """The commands of a program (``halfpoint run``'s pipeline up to the plan,
+    ``cam.run.plan_motion``: its spindle, laser and coolant changes included)."""
+    from ..cam.motion import Pause
+    from ..cam.planner import OutputChange
+    from ..cam.run import load_program, plan_motion
 
     prog, comp, _ = load_program(path, radius, tools, strict, 5, machine)
-    check_program(machine, comp.moves)
-    q = quantise(comp.moves, machine.blu, 32)
-    motion = build_motion(q, plan_items_compensated(prog, comp.moves), machine, 32)
+    _, motion = plan_motion(prog, comp, machine, 32)
+    # an OUTPUT command is named by its M / S block: the output changes are in the
+    # command stream in the order of the plan's OutputChange items
+    output_lines = iter([it.lineno for it in motion.planned if isinstance(it, OutputChange)])
     items, k = [], 0
     delta = [0, 0, 0]
     commands = motion.commands
@@ -88,10 +89,13 @@ def plan_job(path: str, machine, radius=None, tools=None, strict=False) -> Job:
         if isinstance(it, Pause):
             items.append(Item(None, it.lineno, k, it.seconds))
             continue
+        d = enc.decode(it)
+        if d["opcode"] == enc.OP_OUTPUT:
+            items.append(Item(it, next(output_lines), k))
+            continue
         pc = commands[min(k, len(commands) - 1)]
         items.append(Item(it, pc.move.lineno, k + 1))
-        if enc.decode(it)["opcode"] != enc.OP_PROFILE:
-            d = enc.decode(it)
+        if d["opcode"] != enc.OP_PROFILE:
             if d["opcode"] == enc.OP_LINE:
                 for a in range(3):
                     delta[a] += d["deltas"][a]
