@@ -42,7 +42,8 @@
 // a quadrant (0..3 = I..IV), ue/ve the end point in its quadrant's frame,
 // and a flag such as v_plus1_eq_ue_q holds "v + 1 == ue" for the current v.
 //
-// Outputs are registered.  In the clock after a move edge: move=1, step_x/y
+// Outputs are registered (x, y, f are the run stage's own point and F
+// registers).  In the clock after a move edge: move=1, step_x/y
 // and dir_x/y (1 = positive) for that move, x/y/f = the point reached and its
 // deviation F = x^2+y^2-R^2, done=1 if it was the arc's last move.  x/y/f
 // also show the start point (F=0) when an arc is loaded into an idle run
@@ -89,9 +90,9 @@ module halfpoint_arc #(
     output reg          step_y,
     output reg          dir_x,
     output reg          dir_y,
-    output reg  [W-1:0] x,
-    output reg  [W-1:0] y,
-    output reg  [W+1:0] f,
+    output wire [W-1:0] x,
+    output wire [W-1:0] y,
+    output wire [W+1:0] f,
     output reg          done,
     output reg          reject,
     output reg  [1:0]   err_code,
@@ -136,6 +137,7 @@ module halfpoint_arc #(
     localparam [DATA_W-1:0] THREE_D       = {{(DATA_W-4){1'b0}}, 4'd3};
     localparam [DATA_W-1:0] FOUR_D        = {{(DATA_W-4){1'b0}}, 4'd4};
     localparam [DATA_W-1:0] FIVE_D        = {{(DATA_W-4){1'b0}}, 4'd5};
+    localparam [DATA_W-1:0] SIX_D         = {{(DATA_W-4){1'b0}}, 4'd6};
     localparam [DATA_W-1:0] SEVEN_D       = {{(DATA_W-4){1'b0}}, 4'd7};
     localparam [DATA_W-1:0] MINUS_THREE_D = ~TWO_D;
     localparam [W-1:0]      ONE_W         = {{(W-1){1'b0}}, 1'b1};
@@ -195,25 +197,23 @@ module halfpoint_arc #(
     // R^2 = xs^2 + ys^2 and |E|^2 = xe^2 + ye^2, each by one shift-and-add
     // register {high W+1 bits, low W bits}: the low half starts as |xs|
     // (|xe|) and shifts the product's bits in as the multiplier's bits go
-    // out; the multiplier bits of |ys| (|ye|) shift out of multiplier_*_q.
+    // out; the multiplier bit of |ys| (|ye|) is registered a clock ahead from
+    // the magnitude (multiplier_*_bit_q: bit k at count k).
     // Each clock adds 0, |xs|, |ys| or both to the high half: that sum is
     // below 2^W + 2^W, so after the shift the high half stays below 2^W and
     // the pair ends as the sum of squares (< 2^(2W-1) + 2^(2W-2)), 2W+1 bits.
     reg  [SQUARE_W:0]   radius_square_q, end_square_q;            // R^2 and |E|^2
-    reg  [W-1:0]        multiplier_ys_q, multiplier_ye_q;
+    reg                 multiplier_ys_bit_q, multiplier_ye_bit_q;
     reg  [W:0]          tolerance_q;                              // 2 max(|xs|, |ys|)
     // the checks: R = 0, R^2 too big, |E|^2 - R^2 > tolerance, R^2 - |E|^2 > tolerance
     reg                 radius_zero_q, radius_too_big_q, end_outside_q, end_inside_q;
-    // terms of the frame set-up: 3v and 2(v - u) of the start point
-    reg  [DATA_W-1:0]   init_v_times3_q, init_v_minus_u_twice_q;
     // the frame comparator's last difference (see prepare below), W + 1 bits
     // signed: both operands are magnitudes below 2^W
     reg  [W:0]          compare_difference_q;
 
-    // pending command, in run-stage form: D1 and the three increments of
-    // three terms (P3, G3, Q4); D2, Q1, Q2 and G1, each one carry chain from
-    // u or v, are computed by the load (see the run stage), as are the end
-    // point's ue + 1, ue + 2, ue - 2 and ve - 2
+    // pending command: the quadrants, the magnitudes (abs_*_q) and the end
+    // test's flags; D1, D2 and the six increments, each one carry chain from
+    // u and v, are computed by the load (see the run stage)
     reg  [1:0]        pend_quad_q, pend_end_quad_q;
     // the start's and the end's u (the other magnitude is v), from their
     // quadrants at the accepting edge; the magnitudes stay in abs_*_q, which
@@ -223,8 +223,6 @@ module halfpoint_arc #(
     wire [W-1:0]      pend_v  = start_u_is_x_q ? abs_ys_q : abs_xs_q;
     wire [W-1:0]      pend_ue = end_u_is_x_q ? abs_xe_q : abs_ye_q;
     wire [W-1:0]      pend_ve = end_u_is_x_q ? abs_ye_q : abs_xe_q;
-    reg  [DATA_W-1:0] pend_d1_q;
-    reg  [DATA_W-1:0] pend_d_add_a_q, pend_d2_add_b_cross_q, pend_f_add_a_q;
     reg               pend_armed_q, pend_first_octant_q, pend_ve_zero_q;
     reg               pend_ve_one_q, pend_ue_zero_q, pend_ue_one_q, pend_u_one_q;
     // the run stage's comparison flags for the start point (see the run stage)
@@ -239,6 +237,17 @@ module halfpoint_arc #(
         input [W-1:0] a;
         begin
             magnitude = a[W-1] ? (~a + {{(W-1){1'b0}}, 1'b1}) : a;
+        end
+    endfunction
+
+    // bit i of a (0 for i >= W): a multiplexer
+    function bit_at;
+        input [W-1:0] a;
+        input [5:0]   i;
+        reg   [63:0]  padded;
+        begin
+            padded = {{(64-W){1'b0}}, a};
+            bit_at = padded[i];
         end
     endfunction
 
@@ -264,12 +273,13 @@ module halfpoint_arc #(
     // previous one has left it), the squaring registers end as the sums of
     // squares (SUM is an idle clock, kept for the timing at the ports), and
     // CHECK registers the three checks.  By squaring clock (count):
-    //   0: R = 0   1: 3v and 2(v - u)   2: P3, G3, Q4   3: D1 = G3 + ~v
+    //   0: R = 0   1: the end point's and u's constant flags
     // and one subtractor, the comparator, takes one pair per clock
     //   1: v - ve   2: u - ue   3: v - ue   4: ve - ue   5: |xs| - |ys|
     // with the flags registered from its difference a clock later (counts
     // 2 to 6; the armed flag, which needs them all, at 6).
     wire       squaring      = (validator_state_q == STATE_SQUARE);
+    wire [5:0] square_next   = square_count_q + 6'd1;
     wire       prepare_at_0  = squaring && (square_count_q == 6'd0);
     wire       prepare_at_1  = squaring && (square_count_q == 6'd1);
     wire       prepare_at_2  = squaring && (square_count_q == 6'd2);
@@ -305,9 +315,6 @@ module halfpoint_arc #(
     wire [1:0] accept_end_quad   = quadrant_of(s_cw, s_xe, s_ye);
     wire [1:0] decide_error = radius_zero_q ? 2'd1 : radius_too_big_q ? 2'd2
                             : (end_outside_q || end_inside_q) ? 2'd3 : 2'd0;
-
-    wire [DATA_W-1:0] init_u = {2'b00, pend_u};
-    wire [DATA_W-1:0] init_v = {2'b00, pend_v};
 
     // the comparator (schedule above) and what its difference tells
     wire [W-1:0] compare_a = (square_count_q == 6'd2) ? pend_u
@@ -385,25 +392,23 @@ module halfpoint_arc #(
             abs_ye_q <= magnitude(s_ye);
             radius_square_q <= {{(W+1){1'b0}}, magnitude(s_xs)};
             end_square_q    <= {{(W+1){1'b0}}, magnitude(s_xe)};
-            multiplier_ys_q <= magnitude(s_ys);
-            multiplier_ye_q <= magnitude(s_ye);
+            // bit 0 of a magnitude is the number's own bit 0
+            multiplier_ys_bit_q <= s_ys[0];
+            multiplier_ye_bit_q <= s_ye[0];
         end
         if (squaring) begin
-            radius_square_q <= squares_step(radius_square_q, abs_xs_q, multiplier_ys_q[0],
+            radius_square_q <= squares_step(radius_square_q, abs_xs_q, multiplier_ys_bit_q,
                                             abs_ys_q);
-            end_square_q    <= squares_step(end_square_q, abs_xe_q, multiplier_ye_q[0],
+            end_square_q    <= squares_step(end_square_q, abs_xe_q, multiplier_ye_bit_q,
                                             abs_ye_q);
-            multiplier_ys_q <= multiplier_ys_q >> 1;
-            multiplier_ye_q <= multiplier_ye_q >> 1;
+            multiplier_ys_bit_q <= bit_at(abs_ys_q, square_next);
+            multiplier_ye_bit_q <= bit_at(abs_ye_q, square_next);
         end
         if (squaring)
             compare_difference_q <= {1'b0, compare_a} - {1'b0, compare_b};
         if (prepare_at_0)
             radius_zero_q   <= (abs_xs_q == {W{1'b0}}) && (abs_ys_q == {W{1'b0}});
         if (prepare_at_1) begin
-            // F = 0 at the start point
-            init_v_times3_q       <= init_v + (init_v << 1);
-            init_v_minus_u_twice_q <= (init_v - init_u) << 1;
             pend_ve_zero_q        <= (pend_ve == {W{1'b0}});
             pend_ve_one_q         <= (pend_ve == ONE_W);
             pend_ue_zero_q        <= (pend_ue == {W{1'b0}});
@@ -413,16 +418,11 @@ module halfpoint_arc #(
         // magnitudes are at most 2^(W-1): the differences do not wrap, and
         // v + 1 == ve (a difference of -1) implies ve != 0
         if (prepare_at_2) begin
-            pend_d_add_a_q        <= init_v_minus_u_twice_q + FIVE_D;       // P3
-            pend_f_add_a_q        <= init_v_minus_u_twice_q + TWO_D;        // G3
-            pend_d2_add_b_cross_q <= ZERO_D - init_v_times3_q;              // Q4
             pend_v_gt_ve_q        <= !compare_negative && !compare_zero;    // v - ve
             pend_v_eq_ve_q        <= compare_zero;
             pend_v_plus1_eq_ve_q  <= compare_minus1;
         end
         if (prepare_at_3) begin
-            // D1 = F - 2u + v + 1 = G3 - v - 1 = G3 + ~v (F = 0)
-            pend_d1_q             <= pend_f_add_a_q + ~init_v;
             pend_u_lt_ue_q        <= compare_negative;                      // u - ue
             pend_u_eq_ue_q        <= compare_zero;
             pend_u_eq_ue_plus1_q  <= compare_plus1;
@@ -451,7 +451,9 @@ module halfpoint_arc #(
     // ------------------------------------------------------------------
     reg               run_q, cw_q, armed_q, first_octant_q, ve_zero_q;
     reg  [1:0]        quad_q, end_quad_q;
-    reg  [W-1:0]      u_q, v_q, ue_plus1_q;
+    reg  [W-1:0]      u_q, v_q;
+    // the end point in its quadrant's frame (for the look-ahead)
+    reg  [W-1:0]      ue_q, ve_q;
     reg  [W-1:0]      point_x_q, point_y_q;                 // current point
     reg  [DATA_W-1:0] d1_q, d2_q, f_q;
     // increments, see the register names in the header; the other five are
@@ -463,8 +465,6 @@ module halfpoint_arc #(
     reg  [DATA_W-1:0] d2_add_b_cross_q;     // Q4 = -3v
     reg  [DATA_W-1:0] f_add_b_q;            // G1 = -2u + 1
     reg  [DATA_W-1:0] f_add_a_q;            // G3 = -2u + 2v + 2
-    // end-point constants beyond ue + 1, ue - 1, ve - 1 (for the look-ahead)
-    reg  [W-1:0]      ue_plus2_q, ue_minus2_q, ve_minus2_q;
     reg               ve_one_q, ue_zero_q, ue_one_q;
     // comparison flags of the current (u, v) with the end point, kept one
     // clock ahead (look-ahead): each register equals the comparison its name
@@ -547,13 +547,36 @@ module halfpoint_arc #(
     wire u_le_ue       = u_lt_ue_q || u_eq_ue_q;
     wire u_le_ue_plus1 = u_le_ue || u_eq_ue_plus1_q;
 
+    // a == b + k (modulo 2^W) without a carry chain: a + ~b == k - 1 (given
+    // as c), tested bit by bit: the carry each sum bit needs into it (a ^ ~b
+    // ^ c) must be the carry out of the bit below given the carry that one
+    // needs, and bit 0 needs none; one LUT per bit (bits i and i - 1 of a
+    // and b) and an AND, instead of a register and an adder for b + k
+    function equals_plus;
+        input [W-1:0] a;
+        input [W-1:0] b;
+        input [W-1:0] c;
+        reg   [W-1:0] b_inverted, needs;
+        reg   [W-2:0] gives;                    // the carry out of bits 0 .. W-2
+        begin
+            b_inverted  = ~b;
+            needs       = a ^ b_inverted ^ c;
+            gives       = (a[W-2:0] & b_inverted[W-2:0]) | (a[W-2:0] & needs[W-2:0])
+                          | (b_inverted[W-2:0] & needs[W-2:0]);
+            equals_plus = !needs[0] && (needs[W-1:1] == gives);
+        end
+    endfunction
+    localparam [W-1:0] PLUS1_C  = {W{1'b0}};                    // k = 1: c = 0
+    localparam [W-1:0] PLUS2_C  = ONE_W;                        // k = 2: c = 1
+    localparam [W-1:0] MINUS2_C = ~TWO_W;                       // k = -2: c = -3
+
     // look-ahead: the flags for the point after this move, from the flags of
     // this point, the move, and equality tests of this point with constants
     // (they end at the flag registers, not in the enable path)
-    wire v_eq_ve_minus2 = (v_q == ve_minus2_q);
-    wire v_eq_ue_minus2 = (v_q == ue_minus2_q);
-    wire u_eq_ue_plus2  = (u_q == ue_plus2_q);
-    wire v_eq_ue_plus1  = (v_q == ue_plus1_q);
+    wire v_eq_ve_minus2 = equals_plus(v_q, ve_q, MINUS2_C);
+    wire v_eq_ue_minus2 = equals_plus(v_q, ue_q, MINUS2_C);
+    wire u_eq_ue_plus2  = equals_plus(u_q, ue_q, PLUS2_C);
+    wire v_eq_ue_plus1  = equals_plus(v_q, ue_q, PLUS1_C);
     wire u_eq_2         = (u_q == {{(W-2){1'b0}}, 2'd2});
     wire v_eq_1         = (v_q == ONE_W);
     wire v_eq_0         = (v_q == {W{1'b0}});
@@ -600,15 +623,32 @@ module halfpoint_arc #(
     wire stop   = move_b ? stop_b : move_a ? stop_a : stop_c;
     wire last = advance && stop;
 
-    // The start point's D2 and the increments Q1, Q2, G1, each one carry
-    // chain from the pending u or v, are computed at the load rather than
-    // kept in the pending slot (F = 0 there; ~a = -a - 1 modulo 2^(W+2)):
-    //   D2 = 2v - u + 1 = {v, 1} + ~u + 1     Q1 = 2 - 2u = ~(2u) + 3
-    //   Q2 = 2v + 3                           G1 = 1 - 2u = ~(2u) + 2
+    // The start point's D1, D2 and the six increments are computed at the
+    // load from the pending u and v, each by one carry chain (three of them
+    // after a carry-save level with their constant), rather than kept in the
+    // pending slot (F = 0 there; ~a = -a - 1 modulo 2^(W+2)):
+    //   D1 = v - 2u + 1 = v + ~(2u) + 2       D2 = 2v - u + 1 = {v, 1} + ~u + 1
+    //   P3 = 2v - 2u + 5 = 2v + ~(2u) + 6     G3 = 2v - 2u + 2 = 2v + ~(2u) + 3
+    //   Q1 = 2 - 2u = ~(2u) + 3               Q2 = 2v + 3
+    //   Q4 = -3v = v - 4v = v + ~(4v) + 1     G1 = 1 - 2u = ~(2u) + 2
+    function [DATA_W-1:0] add_three;            // a + b + c: carry-save, one chain
+        input [DATA_W-1:0] a;
+        input [DATA_W-1:0] b;
+        input [DATA_W-1:0] c;
+        begin
+            add_three = (a ^ b ^ c) + (((a & b) | (a & c) | (b & c)) << 1);
+        end
+    endfunction
     wire [DATA_W-1:0] load_u_twice  = {1'b0, pend_u, 1'b0};
+    wire [DATA_W-1:0] load_v        = {2'b00, pend_v};
+    wire [DATA_W-1:0] load_v_twice  = {1'b0, pend_v, 1'b0};
+    wire [DATA_W-1:0] load_d1       = add_three(load_v, ~load_u_twice, TWO_D);
     wire [DATA_W-1:0] load_d2       = {1'b0, pend_v, 1'b1} - {2'b00, pend_u};
+    wire [DATA_W-1:0] load_d_add_a  = add_three(load_v_twice, ~load_u_twice, SIX_D);
+    wire [DATA_W-1:0] load_f_add_a  = add_three(load_v_twice, ~load_u_twice, THREE_D);
     wire [DATA_W-1:0] load_d2_add_b = ~load_u_twice + THREE_D;
-    wire [DATA_W-1:0] load_d2_add_c = {1'b0, pend_v, 1'b0} + THREE_D;
+    wire [DATA_W-1:0] load_d2_add_c = load_v_twice + THREE_D;
+    wire [DATA_W-1:0] load_d2_add_b_cross = load_v - {pend_v, 2'b00};
     wire [DATA_W-1:0] load_f_add_b  = ~load_u_twice + TWO_D;
 
     assign load = hold_q && start_en && !abort_now && !run_q;     // only into an idle stage
@@ -639,13 +679,11 @@ module halfpoint_arc #(
             end_quad_q       <= pend_end_quad_q;
             u_q              <= pend_u;
             v_q              <= pend_v;
-            ue_plus1_q       <= pend_ue + ONE_W;
+            ue_q             <= pend_ue;
+            ve_q             <= pend_ve;
             ve_zero_q        <= pend_ve_zero_q;
             first_octant_q   <= pend_first_octant_q;
             armed_q          <= pend_armed_q;
-            ue_plus2_q       <= pend_ue + TWO_W;
-            ue_minus2_q      <= pend_ue - TWO_W;
-            ve_minus2_q      <= pend_ve - TWO_W;
             ve_one_q         <= pend_ve_one_q;
             ue_zero_q        <= pend_ue_zero_q;
             ue_one_q         <= pend_ue_one_q;
@@ -659,17 +697,14 @@ module halfpoint_arc #(
             v_lt_ue_q        <= pend_v_lt_ue_q;
             v_eq_ue_q        <= pend_v_eq_ue_q;
             v_plus1_eq_ue_q  <= pend_v_plus1_eq_ue_q;
-            point_x_q        <= cmd_xs_q;
-            point_y_q        <= cmd_ys_q;
-            d1_q             <= pend_d1_q;
+            d1_q             <= load_d1;
             d2_q             <= load_d2;
-            f_q              <= {DATA_W{1'b0}};
-            d_add_a_q        <= pend_d_add_a_q;
+            d_add_a_q        <= load_d_add_a;
             d2_add_b_q       <= load_d2_add_b;
             d2_add_c_q       <= load_d2_add_c;
-            d2_add_b_cross_q <= pend_d2_add_b_cross_q;
+            d2_add_b_cross_q <= load_d2_add_b_cross;
             f_add_b_q        <= load_f_add_b;
-            f_add_a_q        <= pend_f_add_a_q;
+            f_add_a_q        <= load_f_add_a;
         end else if (advance) begin
             quad_q           <= quad_n;
             u_q              <= u_n;
@@ -685,11 +720,8 @@ module halfpoint_arc #(
             v_lt_ue_q        <= v_lt_ue_n;
             v_eq_ue_q        <= v_eq_ue_n;
             v_plus1_eq_ue_q  <= v_plus1_eq_ue_n;
-            point_x_q        <= point_x_n;
-            point_y_q        <= point_y_n;
             d1_q             <= d1_n;
             d2_q             <= d2_n;
-            f_q              <= f_q + f_add;
             d_add_a_q        <= d_add_a_n;
             d2_add_b_q       <= d2_add_b_n;
             d2_add_c_q       <= d2_add_c_n;
@@ -698,6 +730,28 @@ module halfpoint_arc #(
             f_add_a_q        <= f_add_a_n;
         end
     end
+
+    // The current point and its F are the outputs x, y, f themselves: a
+    // move's edge writes the point it reaches, a load the start point with
+    // F = 0, and a reset 0 (run-stage registers otherwise need no reset)
+    always @(posedge clk) begin
+        if (rst) begin
+            point_x_q <= {W{1'b0}};
+            point_y_q <= {W{1'b0}};
+            f_q       <= {DATA_W{1'b0}};
+        end else if (load) begin
+            point_x_q <= cmd_xs_q;
+            point_y_q <= cmd_ys_q;
+            f_q       <= {DATA_W{1'b0}};
+        end else if (advance) begin
+            point_x_q <= point_x_n;
+            point_y_q <= point_y_n;
+            f_q       <= f_q + f_add;
+        end
+    end
+    assign x = point_x_q;
+    assign y = point_y_q;
+    assign f = f_q;
 
     // ------------------------------------------------------------------
     // Registered outputs
@@ -711,9 +765,6 @@ module halfpoint_arc #(
             step_y   <= 1'b0;
             dir_x    <= 1'b0;
             dir_y    <= 1'b0;
-            x        <= {W{1'b0}};
-            y        <= {W{1'b0}};
-            f        <= {DATA_W{1'b0}};
             done     <= 1'b0;
             reject   <= 1'b0;
             err_code <= 2'd0;
@@ -723,15 +774,6 @@ module halfpoint_arc #(
             step_y <= advance && y_steps;
             if (advance && x_steps) dir_x <= x_direction;
             if (advance && y_steps) dir_y <= y_direction;
-            if (advance) begin
-                x <= point_x_n;
-                y <= point_y_n;
-                f <= f_q + f_add;
-            end else if (load) begin
-                x <= cmd_xs_q;
-                y <= cmd_ys_q;
-                f <= {DATA_W{1'b0}};
-            end
             done   <= last;
             reject <= rejecting;
             if (rejecting) err_code <= decide_error;
@@ -1017,7 +1059,7 @@ module halfpoint_arc #(
     // The squaring registers after k clocks of squaring (k = W: in SUM): the
     // multiplicand's bits not yet shifted out, below the partial sums of both
     // squares, (a >> k) + (a (a mod 2^k) + b (b mod 2^k)) 2^(W-k), and the
-    // multiplier's bits not yet used, b >> k; k = W + 1: from CHECK on, the
+    // multiplier's bit of count k, bit k of b; k = W + 1: from CHECK on, the
     // sums taken in SUM are the partial sums after W clocks.  One invariant
     // per k, each with shifts by constants; F_SQUARING_K = j asserts the one for
     // k = j and assumes the others (one sby task per k: proven together by
@@ -1039,8 +1081,8 @@ module halfpoint_arc #(
                 ? ({3'b000, f_sum_r2_q} == f_r2_part && {3'b000, f_sum_e2_q} == f_e2_part)
                 : (({3'b000, radius_square_q} == f_r2_part)
                    && ({3'b000, end_square_q} == f_e2_part)
-                   && (f_k == W || (multiplier_ys_q == (abs_ys_q >> f_k)
-                                    && multiplier_ye_q == (abs_ye_q >> f_k))));
+                   && (f_k == W || (multiplier_ys_bit_q == bit_at(abs_ys_q, f_k)
+                                    && multiplier_ye_bit_q == bit_at(abs_ye_q, f_k))));
             // (unlabelled: Yosys names a label once per module)
             always @(*)
                 if (f_now) begin
@@ -1098,8 +1140,8 @@ module halfpoint_arc #(
                 if (f_sq_live && squaring && square_count_q == f_lk)
                     assert({3'b000, radius_square_q} == (f_axs >> f_lk) + (f_gr2 << (W - f_lk))
                            && {3'b000, end_square_q} == (f_axe >> f_lk) + (f_ge2 << (W - f_lk))
-                           && multiplier_ys_q == (abs_ys_q >> f_lk)
-                           && multiplier_ye_q == (abs_ye_q >> f_lk)
+                           && multiplier_ys_bit_q == bit_at(abs_ys_q, f_lk)
+                           && multiplier_ye_bit_q == bit_at(abs_ye_q, f_lk)
                            && f_gr2 < F_BOUND && f_ge2 < F_BOUND);
         end
     endgenerate
@@ -1180,23 +1222,17 @@ module halfpoint_arc #(
             // the pending slot's increments (F = 0 at the start point)
             if (f_after0) begin
                 // computed by the load from the pending u, v
+                i_l_d1:  assert(load_d1 == f_pvd - (f_pud << 1) + ONE_D);
+                i_l_p3:  assert(load_d_add_a == ((f_pvd - f_pud) << 1) + FIVE_D);
+                i_l_g3:  assert(load_f_add_a == ((f_pvd - f_pud) << 1) + TWO_D);
+                i_l_q4:  assert(load_d2_add_b_cross == ZERO_D - f_pvd - (f_pvd << 1));
                 i_l_d2:  assert(load_d2 == (f_pvd << 1) - f_pud + ONE_D);
                 i_l_q1:  assert(load_d2_add_b == TWO_D - (f_pud << 1));
                 i_l_q2:  assert(load_d2_add_c == (f_pvd << 1) + THREE_D);
                 i_l_g1:  assert(load_f_add_b == ONE_D - (f_pud << 1));
             end
-            if (f_after1) begin
-                i_p_v3:  assert(init_v_times3_q == f_pvd + (f_pvd << 1));
-                i_p_vu:  assert(init_v_minus_u_twice_q == (f_pvd - f_pud) << 1);
+            if (f_after1)
                 i_p_u1:  assert(pend_u_one_q == (f_pu == ONE_W));
-            end
-            if (f_after3)
-                i_p_d1:  assert(pend_d1_q == f_pvd - (f_pud << 1) + ONE_D);
-            if (f_after2) begin
-                i_p_p3:  assert(pend_d_add_a_q == ((f_pvd - f_pud) << 1) + FIVE_D);
-                i_p_g3:  assert(pend_f_add_a_q == ((f_pvd - f_pud) << 1) + TWO_D);
-                i_p_q4:  assert(pend_d2_add_b_cross_q == ZERO_D - f_pvd - (f_pvd << 1));
-            end
             // the comparator's difference in the clock after each of its steps
             if (squaring && square_count_q == 6'd2)
                 i_c_v_ve:  assert(compare_difference_q == {1'b0, f_pv} - {1'b0, f_pve});
@@ -1546,8 +1582,8 @@ module halfpoint_arc #(
     // stage decides this from look-ahead flags kept one clock ahead; here the
     // flags are tied to u, v and E (i_s_*), and the stop to the rule (a_stop).
     localparam [W:0] F_MAG_HALF = {2'b01, {(W-1){1'b0}}};   // 2^(W-1)
-    wire [W-1:0] f_ue_w = ue_plus1_q - ONE_W;              // E in its quadrant's frame
-    wire [W-1:0] f_ve_w = ve_minus2_q + 2'd2;              // (modulo 2^W, as kept)
+    wire [W-1:0] f_ue_w = ue_q;                            // E in its quadrant's frame
+    wire [W-1:0] f_ve_w = ve_q;
     wire [W:0] f_ue  = {1'b0, f_ue_w};
     wire [W:0] f_ve  = {1'b0, f_ve_w};
     wire [W:0] f_u   = {1'b0, u_q};
@@ -1589,11 +1625,9 @@ module halfpoint_arc #(
         end
     always @(*)
         if (f_past_valid && !rst && run_q) begin
-            // E's magnitudes are at most 2^(W-1) (no wrap in ue + 1, ue + 2)
+            // E's magnitudes are at most 2^(W-1)
             i_s_e:       assert(f_ue <= F_MAG_HALF && f_ve <= F_MAG_HALF);
-            i_s_const:   assert(ue_plus2_q == f_ue[W-1:0] + 2'd2
-                                && ue_minus2_q == f_ue[W-1:0] - 2'd2
-                                && ve_zero_q == (f_ve == 0) && ve_one_q == (f_ve == 1)
+            i_s_const:   assert(ve_zero_q == (f_ve == 0) && ve_one_q == (f_ve == 1)
                                 && ue_zero_q == (f_ue == 0) && ue_one_q == (f_ue == 1)
                                 && first_octant_q == f_first);
             i_s_v:       assert(v_gt_ve_q == (f_v > f_ve) && v_eq_ve_q == (f_v == f_ve)

@@ -716,6 +716,39 @@ async def long_quadrant(dut):
 
 
 @cocotb.test()
+async def wide_start_u(dut):
+    """Arcs that start with u above a quarter of the coordinate range (above
+    2^(W-2) + 1) where B moves come first, in both directions and every
+    quadrant: the load computes Q1 = 2 - 2u, whose bit W - 1 is clear only
+    there (and at u = 1, where a B move is a crossing that replaces it), so
+    its B moves are the first to add a Q1 set up from u's high bits.  Found
+    by mutation testing: bit 0 of the load's Q1 inverted while its bit W - 1
+    is clear ran every other test."""
+    bind(dut)
+    rng = random.Random(SEED * 43 + 19)
+    bench = ArcBench(dut, W, seed=SEED + 103)
+    await bench.start()
+    r = 0.95 * 2 ** (W - 1)
+    cmds = []
+    for quadrant in range(4):
+        for cw in (0, 1):
+            # u = r cos(a), v = r sin(a) at the frame's angle a from u's axis:
+            # a = 52 degrees puts u at 0.58 * 2^(W-1) with v > u (B moves)
+            frame = math.radians(52 + rng.uniform(-2, 2))
+            base = quadrant * math.pi / 2
+            theta = base + (frame if not cw else math.pi / 2 - frame)
+            xs, ys = start_point(rng, r, theta, W)
+            moves = 300
+            span = moves / (math.sqrt(xs * xs + ys * ys) * 4 * math.sqrt(2) / (2 * math.pi))
+            xe, ye = nearest_on_circle(xs * xs + ys * ys, theta - span if cw else theta + span)
+            cmds.append((cw, xs, ys, xe, ye))
+    results, stats = await bench.run(cmds, valid_idle=0.1, en_idle=0.1)
+    check_results(results, cmds)
+    assert not any(r.rejected for r in results)
+    dut._log.info("wide start u: %d arcs, %d moves", len(cmds), stats.moves)
+
+
+@cocotb.test()
 async def start_past_end(dut):
     """A start in the end point's quadrant and octant that lies past the end
     in its progress order (v > ve, first octant): the arc is not armed and
