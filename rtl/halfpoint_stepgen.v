@@ -89,12 +89,14 @@ module halfpoint_stepgen #(
     localparam [1:0] STATE_SETUP = 2'd1;    // DIR changed, waiting dirsetup clocks
     localparam [1:0] STATE_HIGH  = 2'd2;    // STEP active
     localparam [TW-1:0] ONE_T = {{(TW-1){1'b0}}, 1'b1};
-    localparam [TW-1:0] MAX_T = {TW{1'b1}};
+    localparam [TW:0]   TWO_P = {{(TW-1){1'b0}}, 2'd2};   // at the width of low_time_plus_q
 
     reg  [1:0]    state_q;
     reg  [TW-1:0] count_q;        // clocks left in SETUP / HIGH
-    reg  [TW-1:0] low_time_q;     // clocks STEP has been inactive (saturating)
-    reg  [TW:0]   low_time_plus_q;    // low_time_q + 1, one bit wider (for the compares)
+    // the clocks STEP has been inactive (low_time, saturating at 2^TW - 1) plus 1, one bit
+    // wider: 1 .. 2^TW, its top bit set exactly when low_time is saturated; the
+    // compares read it as it is, and low_time itself is not kept
+    reg  [TW:0]   low_time_plus_q;
     reg           dir_q;      // logical direction, 1 = positive
 
     wire [TW-1:0] step_length = (cfg_steplen == {TW{1'b0}}) ? ONE_T : cfg_steplen;
@@ -120,18 +122,19 @@ module halfpoint_stepgen #(
 
     // next state without a take
     reg  [1:0]    state_idle;
-    reg  [TW-1:0] count_idle, low_time_n;
+    reg  [TW-1:0] count_idle;
+    reg  [TW:0]   low_time_plus_n;
     always @(*) begin
         state_idle = state_q;
         count_idle = count_q;
-        low_time_n = low_time_q;
+        low_time_plus_n = low_time_plus_q;
         case (state_q)
             STATE_LOW: begin
                 // low_time counts on a take too (it is not read until the
                 // HIGH state's end sets it to 1), so that the readiness
                 // compares do not wait for the take
-                if (low_time_q != MAX_T) begin
-                    low_time_n = low_time_q + ONE_T;
+                if (!low_time_plus_q[TW]) begin
+                    low_time_plus_n = low_time_plus_q + {{TW{1'b0}}, 1'b1};
                 end
             end
             STATE_SETUP: begin
@@ -145,7 +148,7 @@ module halfpoint_stepgen #(
             default: begin   // STATE_HIGH
                 if (count_q <= ONE_T) begin
                     state_idle = STATE_LOW;
-                    low_time_n = ONE_T;
+                    low_time_plus_n = TWO_P;            // low_time = 1
                 end else begin
                     count_idle = count_q - ONE_T;
                 end
@@ -157,15 +160,15 @@ module halfpoint_stepgen #(
     wire          dir_n = take ? req_dir : dir_q;
     wire          step_n = take ? !take_setup : (state_idle == STATE_HIGH);
 
-    // low_time_n >= stepspace and >= dirhold (registered below), each compare
-    // from registers and settings, with the state selecting last: in LOW
-    // low_time_n is low_time_q + 1 (saturating), so it reaches a setting iff
-    // low_time_q + 1 does (low_time_plus_q, a register: the settings meet one
-    // carry chain, no arithmetic of their own in front of it); at the HIGH
-    // state's end it is 1.  space_ok_q and hold_ok_q are read only in LOW
+    // the next low_time >= stepspace and >= dirhold (registered below), each
+    // compare from registers and settings, with the state selecting last: in
+    // LOW the next low_time is low_time + 1 (saturating), so it reaches a
+    // setting iff low_time + 1 does (low_time_plus_q, a register: the settings
+    // meet one carry chain, no arithmetic of their own in front of it); at the
+    // HIGH state's end it is 1.  space_ok_q and hold_ok_q are read only in LOW
     // (readiness is in_low and them), and LOW is entered only from the HIGH
     // state's end, which writes them, so in SETUP and in HIGH before its end
-    // they take the LOW compares too, unread (no compares of low_time_q)
+    // they take the LOW compares too, unread
     wire          space_counting = (low_time_plus_q >= {1'b0, cfg_stepspace});
     wire          hold_counting  = (low_time_plus_q >= {1'b0, cfg_dirhold});
     wire          space_at_one   = (cfg_stepspace[TW-1:1] == {(TW-1){1'b0}});
@@ -175,7 +178,7 @@ module halfpoint_stepgen #(
     wire          hold_ok_n  = high_ends ? hold_at_one : hold_counting;
 
     // readiness at the next clock without a take at this edge: LOW stays LOW,
-    // HIGH ends on its last clock (low_time_n does not depend on the take)
+    // HIGH ends on its last clock (low_time does not depend on the take)
     wire next_same = in_low ? space_counting : (high_ends && space_at_one);
     assign direction          = dir_q;
     assign next_ready_same    = next_same;
@@ -185,8 +188,7 @@ module halfpoint_stepgen #(
         if (rst) begin
             state_q    <= STATE_LOW;
             count_q    <= {TW{1'b0}};
-            low_time_q <= MAX_T;
-            low_time_plus_q <= {1'b1, {TW{1'b0}}};
+            low_time_plus_q <= {1'b1, {TW{1'b0}}};   // low_time = 2^TW - 1
             dir_q      <= 1'b0;
             space_ok_q <= 1'b1;       // low_time = max
             hold_ok_q  <= 1'b1;
@@ -195,8 +197,7 @@ module halfpoint_stepgen #(
         end else begin
             state_q    <= state_n;
             count_q    <= count_n;
-            low_time_q <= low_time_n;
-            low_time_plus_q <= {1'b0, low_time_n} + {{TW{1'b0}}, 1'b1};
+            low_time_plus_q <= low_time_plus_n;
             dir_q      <= dir_n;
             space_ok_q <= space_ok_n;
             hold_ok_q  <= hold_ok_n;
@@ -247,6 +248,7 @@ module halfpoint_stepgen #(
     // The internal invariants at the end tie the RTL state to the monitor so
     // that k-induction closes; F_CONTRACT_ONLY leaves them out (sby task
     // "contract", a bounded check of the contract alone).
+    localparam [TW-1:0] MAX_T = {TW{1'b1}};   // the inactive time's saturation
     localparam [TW-1:0] F_ZERO = {TW{1'b0}};
 
     reg f_past_valid;
@@ -431,6 +433,9 @@ module halfpoint_stepgen #(
     wire [TW:0] f_hi_cnt    = {1'b0, f_hi} + {1'b0, count_q};
     wire [TW:0] f_wait_cnt  = {1'b0, f_wait} + {1'b0, count_q};
     wire [TW:0] f_since_cnt = {1'b0, f_since_dir} + {1'b0, count_q};
+    // the inactive time the RTL keeps as low_time_plus_q (1 .. 2^TW, i_low_time_plus)
+    wire [TW:0]   f_low_time_wide = low_time_plus_q - {{TW{1'b0}}, 1'b1};
+    wire [TW-1:0] f_low_time = f_low_time_wide[TW-1:0];
     always @(*)
         if (f_past_valid) begin
             i_state: assert(state_q != 2'd3);
@@ -442,15 +447,17 @@ module halfpoint_stepgen #(
             i_sd: assert(f_sd != F_ZERO);
             // space_ok_q and hold_ok_q are meaningful (and read) in LOW only
             if (state_q == STATE_LOW) begin
-                i_space: assert(space_ok_q == (low_time_q >= f_stepspace_q));
-                i_hold: assert(hold_ok_q == (low_time_q >= f_dirhold_q));
+                i_space: assert(space_ok_q == (f_low_time >= f_stepspace_q));
+                i_hold: assert(hold_ok_q == (f_low_time >= f_dirhold_q));
             end
-            i_low_time_plus: assert(low_time_plus_q == {1'b0, low_time_q} + {{TW{1'b0}}, 1'b1});
+            i_low_time_plus: assert(low_time_plus_q != {(TW+1){1'b0}}
+                                    && (!low_time_plus_q[TW]
+                                        || low_time_plus_q[TW-1:0] == {TW{1'b0}}));
             i_owed: assert(f_owed == (state_q == STATE_SETUP || f_rise));
             if (f_owed)
                 i_owed_dir: assert(f_owed_dir == dir_q);
             if (state_q == STATE_LOW)
-                i_low_time: assert(low_time_q == f_lo_inc);
+                i_low_time: assert(f_low_time == f_lo_inc);
             if (state_q == STATE_HIGH) begin
                 i_high_count: assert(count_q != F_ZERO);
                 i_high_len: assert(f_hi_cnt == {1'b0, f_len});
