@@ -1582,10 +1582,8 @@ module halfpoint_arc #(
     // stage decides this from look-ahead flags kept one clock ahead; here the
     // flags are tied to u, v and E (i_s_*), and the stop to the rule (a_stop).
     localparam [W:0] F_MAG_HALF = {2'b01, {(W-1){1'b0}}};   // 2^(W-1)
-    wire [W-1:0] f_ue_w = ue_q;                            // E in its quadrant's frame
-    wire [W-1:0] f_ve_w = ve_q;
-    wire [W:0] f_ue  = {1'b0, f_ue_w};
-    wire [W:0] f_ve  = {1'b0, f_ve_w};
+    wire [W:0] f_ue  = {1'b0, ue_q};                      // E in its quadrant's frame
+    wire [W:0] f_ve  = {1'b0, ve_q};
     wire [W:0] f_u   = {1'b0, u_q};
     wire [W:0] f_v   = {1'b0, v_q};
     wire [W:0] f_un  = {1'b0, u_n};                        // the point after the move

@@ -728,24 +728,21 @@ async def wide_start_u(dut):
     rng = random.Random(SEED * 43 + 19)
     bench = ArcBench(dut, W, seed=SEED + 103)
     await bench.start()
-    r = 0.95 * 2 ** (W - 1)
+    radius = 0.95 * 2 ** (W - 1)
     cmds = []
     for quadrant in range(4):
         for cw in (0, 1):
-            # u = r cos(a), v = r sin(a) at the frame's angle a from u's axis:
+            # u = radius cos(a), v = radius sin(a), a the angle from u's axis:
             # a = 52 degrees puts u at 0.58 * 2^(W-1) with v > u (B moves)
             frame = math.radians(52 + rng.uniform(-2, 2))
             base = quadrant * math.pi / 2
             theta = base + (frame if not cw else math.pi / 2 - frame)
-            xs, ys = start_point(rng, r, theta, W)
+            xs, ys = start_point(rng, radius, theta, W)
             moves = 300
             span = moves / (math.sqrt(xs * xs + ys * ys) * 4 * math.sqrt(2) / (2 * math.pi))
             xe, ye = nearest_on_circle(xs * xs + ys * ys, theta - span if cw else theta + span)
             cmds.append((cw, xs, ys, xe, ye))
-    results, stats = await bench.run(cmds, valid_idle=0.1, en_idle=0.1)
-    check_results(results, cmds)
-    assert not any(r.rejected for r in results)
-    dut._log.info("wide start u: %d arcs, %d moves", len(cmds), stats.moves)
+    await run_accepted(dut, bench, cmds, "wide start u", valid_idle=0.1, en_idle=0.1)
 
 
 @cocotb.test()
