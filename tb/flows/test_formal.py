@@ -250,3 +250,38 @@ def test_arc_squarer_link_breaks_at_every_width(tmp_path):
         assert r.status in ("FAIL", "UNKNOWN") and r.ok, r
         assert r.failed and all(f.startswith("sq_") or f"halfpoint_arc.v:{link[0]}" in f
                                 for f in r.failed), r.failed
+
+
+def test_arc_squares_integer_lemma(tmp_path):
+    """The squarer ghosts' arithmetic at every width the arc runs at (8..32): the
+    rows of binary multiplication, added as the monitor adds them in F_PW bits,
+    never wrap and end as a^2 + b^2 (unsat in QF_NIA); the lemma with the row of
+    bit k shifted by k + 1 is sat, and the solver's a and b do break it; a ghost
+    in the RTL that no longer reads as the lemma restates it is an ERROR."""
+    from halfpoint.flows import lemmas
+    solver = formal.venv_bin() / formal.SOLVER
+    assert lemmas.ghost_text_follows() == []
+    good = lemmas.run_squares(solver, tmp_path / "good")
+    assert good.status == "PASS", good
+    assert sorted(p.name for p in (tmp_path / "good").glob("*.smt2")) == \
+        sorted(f"squares_w{w}.smt2" for w in range(8, 33))
+    bad = lemmas.run_squares(solver, tmp_path / "bad", wrong_row=True, widths=[8, 32])
+    assert bad.status == "FAIL" and Path(bad.trace).exists(), bad
+    w = int(bad.note.split()[2].rstrip(":"))
+    values = dict(kv.split(" = ") for kv in bad.note.split(": ", 1)[1].split(", "))
+    a, b = int(values["a"]), int(values["b"])
+    assert a < 2 ** w and b < 2 ** w
+
+    def rows(x, shift):
+        return sum(((x >> k) & 1) * (x << (k + shift)) for k in range(w))
+
+    assert rows(a, 0) + rows(b, 0) == a * a + b * b           # the true recurrence
+    assert rows(a, 1) + rows(b, 1) != a * a + b * b           # broken for these values
+    # the restatement is checked against the RTL's text
+    rtl = tmp_path / "halfpoint_arc.v"
+    rtl.write_text(lemmas.ARC_RTL.read_text().replace(
+        "f_gr2 <= f_gr2 + f_row_xs + f_row_ys;", "f_gr2 <= f_gr2 + f_row_ys + f_row_xs;"))
+    assert lemmas.ghost_text_follows(rtl) == ["f_gr2 <= f_gr2 + f_row_xs + f_row_ys;"]
+    proofs, mutants = formal.plan(True, [])
+    assert "halfpoint_arc:squares_int" in {name for _, _, name in proofs}
+    assert "arc_squares_int_wrong_row" in {m.name for m in formal.plan(False, [])[1]}

@@ -25,6 +25,13 @@ induction step that fails while the base case passes is reported as
 UNKNOWN: its trace_induct.vcd starts in an unreachable state, so it is no
 counterexample; the fix is a larger depth or an invariant.
 
+Integer lemmas (``LEMMAS``, ``halfpoint.flows.lemmas``).  An arithmetic fact of
+a monitor that is a multiplier to the bit-level solver is proven in integer
+arithmetic instead: an SMT-LIB query per width, run with the same solver,
+named <design>:<task> like an sby task and tagged the same way; its lemma
+mutant (``LEMMA_MUTANTS``) states it broken and must FAIL, the solver's
+values being the counterexample.
+
 Mutants (not with --quick).  A mutant is a copy of rtl/ (and formal/) in
 build/formal/mutants/<name>/ with one textual edit of the real RTL, so it
 follows the RTL as it is; the edit's text must occur exactly once.  Each of
@@ -322,6 +329,34 @@ MUTANTS = [
 ]
 
 
+@dataclass(frozen=True)
+class Lemma:
+    """A proof by halfpoint.flows.lemmas (an SMT query in integer arithmetic, no
+    .sby), named <design>:<task> like the sby tasks; ``wrong_row`` states it
+    broken (a lemma mutant: it must FAIL)."""
+    design: str
+    task: str
+    tags: tuple = ()
+    wrong_row: bool = False
+
+
+@dataclass(frozen=True)
+class LemmaMutant:
+    name: str
+    design: str
+    tasks: tuple            # the lemma it breaks
+    what: str
+    expect: str = "FAIL"
+
+
+LEMMAS = [Lemma("halfpoint_arc", "squares_int", ("quick",))]
+LEMMA_MUTANTS = [
+    LemmaMutant("arc_squares_int_wrong_row", "halfpoint_arc", ("squares_int",),
+                "the integer lemma with the row of bit k shifted by k + 1 (the squarer's "
+                "wrong bit): the solver must find a and b that break it"),
+]
+
+
 @dataclass
 class Result:
     name: str                      # design:task (mutant/design:task for mutants)
@@ -528,18 +563,41 @@ def selected(names, design, task, quick, tags) -> bool:
 
 
 def plan(quick: bool, names: list[str]):
-    """(proofs, mutants): proofs as (sby, task, name)."""
+    """(proofs, mutants): proofs as (sby, task, name), with a Lemma in place of
+    the .sby for an integer lemma; mutants: Mutant or LemmaMutant."""
     proofs = []
     for sby in sorted(FORMAL.glob("*.sby")):
         for task, tags in sby_tasks(sby).items():
             if selected(names, sby.stem, task, quick, tags):
                 proofs.append((sby, task, f"{sby.stem}:{task}"))
+    for lemma in LEMMAS:
+        if selected(names, lemma.design, lemma.task, quick, lemma.tags):
+            proofs.append((lemma, lemma.task, f"{lemma.design}:{lemma.task}"))
+    every = [*MUTANTS, *LEMMA_MUTANTS]
     if quick:
-        mutants = [m for m in MUTANTS if m.name in names]
+        mutants = [m for m in every if m.name in names]
     else:
-        mutants = [m for m in MUTANTS
+        mutants = [m for m in every
                    if not names or m.name in names or m.design in names]
     return proofs, mutants
+
+
+def run_lemma(lemma: Lemma, out: Path, name: str, expect: str = "PASS") -> Result:
+    """An integer lemma (halfpoint.flows.lemmas), its queries and the solver's
+    answers kept in out/<design>_<task>/."""
+    from . import lemmas
+    res = Result(name=name, mode="prove", depth="smt", expect=expect)
+    workdir = out / f"{lemma.design}_{lemma.task}"
+    res.workdir = str(workdir)
+    run = lemmas.run_squares(venv_bin() / SOLVER, workdir, wrong_row=lemma.wrong_row)
+    res.status, res.seconds = run.status, run.seconds
+    if run.status == "FAIL":
+        # the counterexample: the solver's values of a and b (no waveform)
+        res.failed.append(f"squares ({run.note})")
+        res.traces.append(run.trace)
+    else:
+        res.note = run.note
+    return res
 
 
 def table(results: list[Result]) -> str:
@@ -592,15 +650,25 @@ def main(argv=None) -> int:
     sbyexe = setup_formal_env(out)
     jobs = []
     for sby, task, name in proofs:
-        jobs.append((sbyexe, sby, task, out / sby.stem, name, "PASS"))
+        if isinstance(sby, Lemma):
+            jobs.append((run_lemma, sby, out, name, "PASS"))
+        else:
+            jobs.append((run_task, sbyexe, sby, task, out / sby.stem, name, "PASS"))
     for m in mutants:
+        if isinstance(m, LemmaMutant):
+            for task in m.tasks:
+                base = next(x for x in LEMMAS if (x.design, x.task) == (m.design, task))
+                broken = Lemma(base.design, base.task, base.tags, wrong_row=True)
+                jobs.append((run_lemma, broken, out / "mutants" / m.name,
+                             f"{m.name}/{m.design}:{task}", m.expect))
+            continue
         sby = make_mutant(m, out / "mutants" / m.name)
         for task in m.tasks:
-            jobs.append((sbyexe, sby, task, sby.parent.parent / m.design,
+            jobs.append((run_task, sbyexe, sby, task, sby.parent.parent / m.design,
                          f"{m.name}/{m.design}:{task}", m.expect))
     t0 = time.monotonic()
     with cf.ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
-        results = list(pool.map(lambda j: run_task(*j), jobs))
+        results = list(pool.map(lambda j: j[0](*j[1:]), jobs))
     print(table(results))
     bad = [r for r in results if not r.ok]
     print(f"formal: {len(results) - len(bad)} of {len(results)} as expected "
