@@ -285,3 +285,4 @@ def test_arc_squares_integer_lemma(tmp_path):
     proofs, mutants = formal.plan(True, [])
     assert "halfpoint_arc:squares_int" in {name for _, _, name in proofs}
     assert "arc_squares_int_wrong_row" in {m.name for m in formal.plan(False, [])[1]}
+    assert {lemma.task for lemma in formal.LEMMAS} <= set(lemmas.RUNNERS)

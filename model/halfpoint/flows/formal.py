@@ -589,7 +589,7 @@ def run_lemma(lemma: Lemma, out: Path, name: str, expect: str = "PASS") -> Resul
     res = Result(name=name, mode="prove", depth="smt", expect=expect)
     workdir = out / f"{lemma.design}_{lemma.task}"
     res.workdir = str(workdir)
-    run = lemmas.run_squares(venv_bin() / SOLVER, workdir, wrong_row=lemma.wrong_row)
+    run = lemmas.RUNNERS[lemma.task](venv_bin() / SOLVER, workdir, wrong_row=lemma.wrong_row)
     res.status, res.seconds = run.status, run.seconds
     if run.status == "FAIL":
         # the counterexample: the solver's values of a and b (no waveform)

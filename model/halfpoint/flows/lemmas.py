@@ -132,3 +132,7 @@ def run_squares(solver: Path, workdir: Path, wrong_row: bool = False,
                             f"W = {w}: {(proc.stdout + proc.stderr).strip()[:160]}")
     return LemmaRun("PASS", time.monotonic() - t0,
                     f"W = {min(widths)}..{max(widths)}, QF_NIA")
+
+
+# the formal flow's integer lemmas by task name (halfpoint.flows.formal.LEMMAS)
+RUNNERS = {"squares_int": run_squares}
