@@ -267,9 +267,7 @@ def test_arc_squares_integer_lemma(tmp_path):
         sorted(f"squares_w{w}.smt2" for w in range(8, 33))
     bad = lemmas.run_squares(solver, tmp_path / "bad", wrong_row=True, widths=[8, 32])
     assert bad.status == "FAIL" and Path(bad.trace).exists(), bad
-    w = int(bad.note.split()[2].rstrip(":"))
-    values = dict(kv.split(" = ") for kv in bad.note.split(": ", 1)[1].split(", "))
-    a, b = int(values["a"]), int(values["b"])
+    w, a, b = bad.width, bad.values["a"], bad.values["b"]
     assert a < 2 ** w and b < 2 ** w
 
     def rows(x, shift):

@@ -58,7 +58,7 @@ import shutil
 import subprocess
 import sys
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from ..sim.env import BUILD, REPO, warm_yowasp
@@ -593,7 +593,7 @@ def run_lemma(lemma: Lemma, out: Path, name: str, expect: str = "PASS") -> Resul
     res.status, res.seconds = run.status, run.seconds
     if run.status == "FAIL":
         # the counterexample: the solver's values of a and b (no waveform)
-        res.failed.append(f"squares ({run.note})")
+        res.failed.append(f"{lemma.task} ({run.note})")
         res.traces.append(run.trace)
     else:
         res.note = run.note
@@ -658,8 +658,7 @@ def main(argv=None) -> int:
         if isinstance(m, LemmaMutant):
             for task in m.tasks:
                 base = next(x for x in LEMMAS if (x.design, x.task) == (m.design, task))
-                broken = Lemma(base.design, base.task, base.tags, wrong_row=True)
-                jobs.append((run_lemma, broken, out / "mutants" / m.name,
+                jobs.append((run_lemma, replace(base, wrong_row=True), out / "mutants" / m.name,
                              f"{m.name}/{m.design}:{task}", m.expect))
             continue
         sby = make_mutant(m, out / "mutants" / m.name)

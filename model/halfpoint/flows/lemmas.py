@@ -30,15 +30,16 @@ from __future__ import annotations
 import re
 import subprocess
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..sim.env import REPO
 
 ARC_RTL = REPO / "rtl" / "halfpoint_arc.v"
+F_PW_EXTRA = 4                  # the monitor's F_PW = 2W + 4 (checked in GHOST_TEXT)
 # the monitor's lines that the lemma restates (each must occur exactly once)
 GHOST_TEXT = (
-    "localparam integer F_PW = 2 * W + 4;",
+    f"localparam integer F_PW = 2 * W + {F_PW_EXTRA};",
     "wire [5:0]      f_sk = square_count_q;",
     "wire [F_PW-1:0] f_row_xs = f_axs[f_sk] ? (f_axs << f_sk) : {F_PW{1'b0}};",
     "wire [F_PW-1:0] f_row_ys = f_ays[f_sk] ? (f_ays << f_sk) : {F_PW{1'b0}};",
@@ -60,8 +61,7 @@ def ghost_text_follows(rtl: Path = ARC_RTL) -> list[str]:
 
 def squares_query(w: int, wrong_row: bool = False) -> str:
     """The negated lemma at width w, SMT-LIB 2 (QF_NIA): unsat proves it."""
-    pw = 2 * w + 4
-    top = 1 << pw
+    top = 1 << (2 * w + F_PW_EXTRA)
     out = ["(set-option :produce-models true)", "(set-logic QF_NIA)"]
     for v in "ab":
         for i in range(w):
@@ -100,6 +100,8 @@ class LemmaRun:
     seconds: float
     note: str = ""
     trace: str = ""             # FAIL: the solver's answer with the values of a and b
+    width: int = 0              # FAIL: the width that is sat ...
+    values: dict = field(default_factory=dict)      # ... and the solver's a and b there
 
 
 def run_squares(solver: Path, workdir: Path, wrong_row: bool = False,
@@ -122,11 +124,11 @@ def run_squares(solver: Path, workdir: Path, wrong_row: bool = False,
         lines = proc.stdout.split("\n")
         answer = lines[0].strip()
         if answer == "sat":
-            values = " ".join(" ".join(lines[1:]).split())
-            m = re.findall(r"\((\w) (\d+)\)", values)
+            found = re.findall(r"\((\w) (\d+)\)", " ".join(lines[1:]))
+            values = {k: int(v) for k, v in found}
             return LemmaRun("FAIL", time.monotonic() - t0,
-                            f"W = {w}: " + ", ".join(f"{k} = {v}" for k, v in m),
-                            str(workdir / f"squares_w{w}.out"))
+                            f"W = {w}: " + ", ".join(f"{k} = {v}" for k, v in values.items()),
+                            str(workdir / f"squares_w{w}.out"), w, values)
         if answer != "unsat":
             return LemmaRun("ERROR", time.monotonic() - t0,
                             f"W = {w}: {(proc.stdout + proc.stderr).strip()[:160]}")
