@@ -25,11 +25,14 @@
 //     results registered (past_exit_q, past_stop_q);
 //   * the exit staircase starts at the cruise speed on a clock with
 //     past_exit_q (or past_stop_q with the next profile missing and a
-//     non-zero exit speed: the dry queue; its first step sets the sticky dry) and steps down by
-//     accel on each clock that starts with its remainder ramp_left_q
-//     negative, down to the exit speed (to the creep speed accel when the
-//     exit speed is 0 or the queue is dry); the remainder falls by the gain
-//     and a step adds the next level, (stepped << DIV) + 4 x the step;
+//     non-zero exit speed: the dry queue; its first step sets the sticky
+//     dry) and steps down by accel on each clock that starts with its
+//     remainder ramp_left_q negative, unless it started, stepped or returned
+//     from the dry queue at the edge before (ramp_changed_q: its next level
+//     is made from its registers a clock after they change), down to the exit
+//     speed (to the creep speed accel when the exit speed is 0 or the queue is
+//     dry); the remainder falls by the gain and a step adds the next level,
+//     (stepped << DIV) + 4 x the step;
 //   * the target of the next clock is registered: 0 under hold or stop or
 //     without a segment, else the least of the override's product, the
 //     cruise speed and the running staircase; v steps by accel towards
@@ -82,8 +85,11 @@
 //                  level the staircase adds at its next step, stepping down
 //                  by accel ((ramp_v << DIV) - accel_level) or to the floor
 //                  (floor_level + 4 ramp_v), and which way it steps (ramp_v <
-//                  floor + accel); loaded by a start, meaningful while the
-//                  staircase runs
+//                  floor + accel); made on every edge from ramp_v_q and
+//                  ramp_dry_q, so they are the staircase's a clock after it
+//                  moves, when it may step again (ramp_changed_q, the model's
+//                  ramp_changed: it started, stepped or returned at the edge
+//                  before)
 //   cur_valid_q, v_cruise_q, accel_q (both kept after the segment),
 //   line_cost_q, d_exit_q, d_stop_q, v_exit_q, last_up_q / last_down_q (the
 //   model's last_dir), dry_q, past_exit_q, past_stop_q, ramp_on_q,
@@ -222,11 +228,13 @@ module halfpoint_profile #(
     // the staircase's next level, ready for either way of its next step:
     // (ramp_v << DIV) - accel_level (a step down by accel) and floor_level +
     // 4 ramp_v (a step to the floor), floor_level that of the floor it heads
-    // for; and ramp_v < floor + accel (which way).  Meaningful only while the
-    // staircase runs (a start loads them)
+    // for; and ramp_v < floor + accel (which way).  Made from the staircase's
+    // speed and floor of the clock before: read only when it has not moved
+    // since (ramp_changed_q low)
     reg  [RW-1:0] ramp_down_level_q;
     reg  [RW-1:0] ramp_floor_level_q;
     reg           ramp_below_q;
+    reg           ramp_changed_q;   // it started, stepped or returned at the edge before
 
     // ------------------------------------------------------------------
     // Pop, take, stop, hold (ProfileStage.view)
@@ -405,74 +413,25 @@ module halfpoint_profile #(
                 ramp_v_a = exit_speed_q;
             end
         end else begin
-            // the level ran out on an earlier clock
-            ramp_step = ramp_left_q[RW-1];
+            // the level ran out on an earlier clock, and the level registers
+            // are of the staircase as it is (it did not move at the edge before)
+            ramp_step = ramp_left_q[RW-1] && !ramp_changed_q;
         end
     end
     wire [37:0]   ramp_v_n = ramp_step ? ramp_stepped : ramp_v_a;
-    // the next level ready for the staircase's speed after this edge, for
-    // both ways of its next step, and which way it goes (ramp_below_q:
-    // ramp_v < floor + accel), each from registers alone: the staircase's
-    // speed and floor change only by a start, a step or a return from the dry
-    // queue, and each candidate is one carry chain from registers
+    // the next level for the staircase as it is now, for either way of its
+    // next step, and which way it goes (ramp_below: ramp_v < floor + accel),
+    // each one carry chain from registers; registered, they are read from the
+    // clock after, and only if the staircase did not move at that edge
+    // (ramp_changed_q), so they are always those of its speed and floor
     wire          dry_return = ramp_on_q && ramp_dry_q && !dry_condition;
-    wire [RW-1:0] accel_wide = {{(RW-34){1'b0}}, accel_q};
-    wire [RW-1:0] cruise_wide = {{(RW-38){1'b0}}, cruise};
-    wire [RW-1:0] exit_wide = {{(RW-38){1'b0}}, exit_speed_q};
     wire [RW-1:0] ramp_v_wide = {{(RW-38){1'b0}}, ramp_v_q};
-    wire [RW-1:0] exit_shifted = exit_wide << DIV;              // exit_level + 4 exit
-    wire [RW-1:0] accel_shifted = accel_wide << DIV;            // accel_level + 4 accel
-    // (v << DIV) - accel_level: at the cruise speed, at the exit speed, one step down
-    wire [RW-1:0] cruise_down_level = (cruise_wide << DIV) - accel_level_q;
-    wire [RW-1:0] exit_down_level = exit_shifted - accel_level_q;
-    wire [RW-1:0] next_down_level = ramp_down_level_q - accel_shifted;
-    // floor_level + 4 v: at the cruise speed (either floor), one step down,
-    // back from the dry queue at the staircase's speed
-    wire [RW-1:0] cruise_four = cruise_wide << 2;
-    wire [RW-1:0] cruise_floor_exit = exit_level_q + cruise_four;
-    wire [RW-1:0] cruise_floor_dry = accel_level_q + cruise_four;
-    wire [RW-1:0] next_floor_level = ramp_floor_level_q - (accel_wide << 2);
-    wire [RW-1:0] back_floor_level = exit_level_q + (ramp_v_wide << 2);
-    // below after a start, after a step down (ramp_v - accel < floor + accel,
-    // one carry-save level) and after a return from the dry queue
-    wire          cruise_below_exit = ({1'b0, cruise} < exit_plus_accel_q);
-    wire          cruise_below_dry = ({1'b0, cruise} < {4'd0, accel_q, 1'b0});
-    // accel + floor_plus_accel > ramp_v: accel + floor_plus_accel + ~ramp_v >= 0
-    wire [39:0]   nb_a = {6'd0, accel_q};
-    wire [39:0]   nb_b = {1'b0, floor_plus_accel};
-    wire [39:0]   nb_c = ~{2'd0, ramp_v_q};
-    wire [39:0]   nb_x = nb_a ^ nb_b ^ nb_c;
-    wire [38:0]   nb_m = (nb_a[38:0] & nb_b[38:0]) | (nb_a[38:0] & nb_c[38:0])
-                         | (nb_b[38:0] & nb_c[38:0]);
-    wire [VW+1:0] nb_diff = nb_x + {nb_m, 1'b0};
-    wire          next_below = !nb_diff[VW+1];
-    wire          back_below = ({1'b0, ramp_v_q} < exit_plus_accel_q);
-    reg  [RW-1:0] ramp_down_level_n;
-    reg  [RW-1:0] ramp_floor_level_n;
-    reg           ramp_below_n;
-    always @(*) begin
-        ramp_down_level_n  = ramp_down_level_q;
-        ramp_floor_level_n = ramp_floor_level_q;
-        ramp_below_n       = ramp_below_q;
-        if (ramp_start) begin
-            ramp_down_level_n  = cruise_down_level;
-            ramp_floor_level_n = ramp_dry_n ? cruise_floor_dry : cruise_floor_exit;
-            ramp_below_n       = ramp_dry_n ? cruise_below_dry : cruise_below_exit;
-        end else if (ramp_step && ramp_below_q) begin
-            // at the floor: floor_level + 4 floor = floor << DIV
-            ramp_down_level_n  = ramp_dry_q ? (accel_wide << 2) : exit_down_level;
-            ramp_floor_level_n = ramp_dry_q ? accel_shifted : exit_shifted;
-            ramp_below_n       = 1'b1;
-        end else if (ramp_step) begin
-            ramp_down_level_n  = next_down_level;
-            ramp_floor_level_n = next_floor_level;
-            ramp_below_n       = next_below;
-        end else if (dry_return) begin
-            ramp_down_level_n  = exit_above ? exit_down_level : ramp_down_level_q;
-            ramp_floor_level_n = exit_above ? exit_shifted : back_floor_level;
-            ramp_below_n       = exit_above || back_below;
-        end
-    end
+    // floor x (2^DIV - 4): accel's when dry, else the exit speed's
+    wire [RW-1:0] floor_level = ramp_dry_q ? accel_level_q : exit_level_q;
+    // (ramp_v - accel) << DIV + 4 accel, and floor << DIV + 4 (ramp_v - floor)
+    wire [RW-1:0] ramp_down_level_n = (ramp_v_wide << DIV) - accel_level_q;
+    wire [RW-1:0] ramp_floor_level_n = floor_level + (ramp_v_wide << 2);
+    wire          ramp_below_n = ({1'b0, ramp_v_q} < floor_plus_accel);
     // the remainder: - gain every clock; a step adds the next level,
     // (stepped << DIV) + 4 x (ramp_v - stepped), i.e. (ramp_v << DIV) -
     // accel x (2^DIV - 4) unclamped and floor x (2^DIV - 4) + (ramp_v << 2)
@@ -617,6 +576,7 @@ module halfpoint_profile #(
             ramp_on_q   <= 1'b0;
             ramp_dry_q  <= 1'b0;
             ramp_v_q    <= 38'd0;
+            ramp_changed_q <= 1'b0;
         end else begin
             // speed and its cadence; no segment after this edge: the speed is 0
             v_q <= v_next;
@@ -664,6 +624,7 @@ module halfpoint_profile #(
                 ramp_dry_q  <= 1'b0;
             end
             ramp_v_q <= cur_valid_q ? ramp_v_n : 38'd0;
+            ramp_changed_q <= ramp_start || ramp_step || dry_return;
             // the segment
             cur_valid_q <= cur_valid_n;
             if (take_now) begin

@@ -615,7 +615,8 @@ class Monitor:
         got = {k: int(getattr(d, k + "_q").value) for k in (
             "cur_valid", "accel", "v_cruise", "v", "target", "credit", "gain", "s", "since",
             "last_up", "last_down", "dry", "ov", "ov_acc", "ov_count", "ov_target",
-            "past_exit", "past_stop", "ramp_on", "ramp_dry", "ramp_v", "tick_done")}
+            "past_exit", "past_stop", "ramp_on", "ramp_dry", "ramp_v", "tick_done",
+            "ramp_changed")}
         # the credit's compares with the axis and diagonal costs (always) and the
         # whole part of the credit less the line cost (with a segment), whose sign
         # is the third compare the pop uses
@@ -627,7 +628,9 @@ class Monitor:
         if got["ramp_on"]:
             # meaningful only while the staircase runs (the RTL does not clear it)
             got["ramp_left"] = signed(int(d.ramp_left_q.value), rw)
-            # the next level kept ready for either way of the next step
+        if got["ramp_on"] and not got["ramp_changed"]:
+            # the next level, for either way of the next step, made from the
+            # staircase of the clock before: read when it has not moved since
             for k in ("ramp_down_level", "ramp_floor_level"):
                 got[k] = signed(int(getattr(d, k + "_q").value), rw)
             got["ramp_below"] = int(d.ramp_below_q.value)
@@ -669,13 +672,15 @@ def model_registers(model: ProfileStage, fresh: bool = False) -> dict:
             "ov_count": model.ov_count, "ov_target": model.ov_target,
             "past_exit": int(model.past_exit), "past_stop": int(model.past_stop),
             "ramp_on": int(model.ramp_on),
-            "ramp_dry": int(model.ramp_dry), "ramp_v": model.ramp_v}
+            "ramp_dry": int(model.ramp_dry), "ramp_v": model.ramp_v,
+            "ramp_changed": int(model.ramp_changed)}
     want["covers_axis"] = int(model.credit >= pf.COST_AXIS << pf.COST_SHIFT)
     want["covers_diagonal"] = int(model.credit >= pf.COST_DIAG << pf.COST_SHIFT)
     if model.cur is not None:
         want["over_line"] = (model.credit >> pf.COST_SHIFT) - model.cur.line_cost
     if model.ramp_on:
         want["ramp_left"] = model.ramp_left
+    if model.ramp_on and not model.ramp_changed:
         # the RTL keeps the level of the staircase's next step ready both ways:
         # a step down by accel ((ramp_v << DIV) - accel (2^DIV - 4)) and a step to
         # the floor (floor (2^DIV - 4) + 4 ramp_v), and which one it is
@@ -706,12 +711,14 @@ class Checker:
     def __init__(self):
         self.clocks = 0
         self.seen = {"pop": 0, "take": 0, "stopped": 0, "holding": 0, "ramp_step": 0,
-                     "dry_start": 0, "left_negative": 0, "capped": 0,
+                     "dry_start": 0, "left_negative": 0, "changed_negative": 0,
+                     "capped": 0,
                      "exact_cover": 0, "capped_pop_step": 0, "left_floor": 0,
-                     "ceiling": 0, "near_up": 0, "near_down": 0, "held_covered": 0,
+                     "ceiling": 0, "ceiling_wait": 0, "near_up": 0, "near_down": 0, "held_covered": 0,
                      "floor_above_cruise": 0, "floor_near_cruise": 0}
         self.returns = {k: 0 for k in DRY_RETURNS}
         self.v_before = 0
+        self.ceiling_before = False
 
     @staticmethod
     def _diff(what: str, clock: int, got: dict, want: dict, context: str) -> None:
@@ -724,6 +731,9 @@ class Checker:
         self._diff("registers", clock, got_reg, want_reg, context)
         if want_reg.get("ramp_left", 0) < 0:
             self.seen["left_negative"] += 1
+            # a level ran out on the clock right after the staircase moved: the
+            # step waits a clock (the level registers are not the staircase's yet)
+            self.seen["changed_negative"] += want_reg["ramp_changed"]
         if want_reg.get("ramp_left") == -pf.ramp_left_floor(DIV):
             self.seen["left_floor"] += 1
 
@@ -740,11 +750,15 @@ class Checker:
         self.seen["capped"] += int(w.gain < self.v_before)
         # a pop with the credit capped, on a clock the staircase steps
         self.seen["capped_pop_step"] += int(w.pop and w.ramp_step and w.gain < self.v_before)
+        # at or above the credit's ceiling with a segment, and no pop
+        self.seen["ceiling_wait"] += int(self.ceiling_before and not w.pop)
+        self.ceiling_before = False
 
     def credit(self, model: ProfileStage, inp: ProfileInputs) -> None:
         """Before the clock: does the credit cover the head move exactly?"""
         self.v_before = model.v
         self.seen["ceiling"] += int(model.credit >= pf.CREDIT_CEILING)
+        self.ceiling_before = model.credit >= pf.CREDIT_CEILING and model.cur is not None
         if model.cur is not None and inp.head_valid:
             cost = pf.move_cost(inp.head_class, model.cur)
             self.seen["exact_cover"] += int(model.credit >> pf.COST_SHIFT == cost)
@@ -909,7 +923,8 @@ async def raw_profiles(dut):
     bench.report("raw profiles")
     seen = bench.checker.seen
     assert all(seen[k] for k in ("pop", "take", "ramp_step", "left_negative",
-                                 "capped", "exact_cover", "capped_pop_step"))
+                                 "changed_negative", "capped", "exact_cover",
+                                 "capped_pop_step"))
     assert seen["ceiling"] or DIV > 5
     # the remainder's floor, 2^(DIV + 40), is 2^(DIV + 2) clocks of full speed
     # beyond a level: these programs reach it at DIV 3
@@ -1209,6 +1224,53 @@ async def diagonal_covered_just_above_its_cost(dut):
             break
     assert model.cur is None
     bench.report("diagonal remainder")
+
+
+@cocotb.test()
+async def credit_waits_at_cap_and_ceiling(dut):
+    """The credit held where it stops growing, every clock compared.  (1) A line
+    segment at a slow speed (2^-13 BLU per clock) whose move waits (axes not ready)
+    until the credit reaches its cap, twice the line cost: a line cost with bit 13 set
+    and bit 4 clear, so that a cap compare off by 16 units there stops the credit four
+    clocks late (mutation #183 of 2026-11-28, bit 4 of the cap inverted while bit 13 is
+    set, survived every other test).  (2) At DIV <= 5, the ceiling program (one-move
+    segments that carry the credit up to 2^41) with the head's axes not ready on
+    about half the clocks, so that the credit waits at the ceiling with a segment
+    current (mutation #87 of 2026-11-28, bit 31 of the kept credit inverted while its
+    bit 41 is set, survived every other test)."""
+    bind(dut)
+    bench = Bench(dut, SEED + 800)
+    await bench.start()
+    model, rng = bench.model, bench.rng
+
+    async def clock(**kw):
+        inp = ProfileInputs(override=pf.OVERRIDE_ONE, **kw)
+        return await bench.step(inp, "credit at its cap")
+
+    for _ in range(3):
+        line_cost = ((1 << 13) | rng.randrange(1 << 18)) & ~(1 << 4)
+        length = 4 * line_cost
+        profile = ProfileParams(1 << 19, 0, 1 << 25, line_cost, length, length)
+        await clock(next_valid=1, next_profile=profile)             # taken idle
+        for waited in range(1 << 16):
+            if model.full:
+                break
+            await clock(head_valid=1, head_class=CLASS_LINE, ready=0)
+        assert model.full and waited > 64, (model.credit, waited)
+        cap = (line_cost << pf.COST_SHIFT) << 1
+        assert cap <= model.credit < cap + 2 * model.v, model.credit
+        for _ in range(16):                 # held there while the move waits
+            await clock(head_valid=1, head_class=CLASS_LINE, ready=0)
+        w = await clock(head_valid=1, head_class=CLASS_LINE, head_last=1, ready=1)
+        assert w.pop and model.cur is None
+        await bench.idle(8)
+    if DIV <= 5:
+        program = ceiling_program(rng)
+        events = random_events(rng, program, calm=True)
+        events.ready_stall = 0.5
+        await bench.run_program(program, events)
+        assert bench.checker.seen["ceiling_wait"], bench.checker.seen
+    bench.report("credit at its cap")
 
 
 @cocotb.test(skip=not LONG)

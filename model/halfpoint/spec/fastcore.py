@@ -34,7 +34,8 @@ quiet when, on every one of its clocks:
   makes no speed step (the speed equals its registered target, or the cadence counter
   has not reached a tick since a step in the same direction), its exit staircase
   neither starts (the registered compares past d_exit / past d_stop low) nor steps
-  (its remainder not negative), its credit does not reach the cap;
+  (its remainder not negative) nor moved at the edge before (``ramp_changed``), its
+  credit does not reach the cap;
 * the hold input does not change and the override's product (registered override,
   product, target) and the registered target have settled.
 
@@ -197,6 +198,8 @@ def _stage_clocks(m: CoreModel, running, more: bool, hold: int, ovq: int, limit:
     st = m.stage
     if st.ov_q != ovq or not st.override_settled():
         return 0
+    if st.ramp_changed:
+        return 0                        # the staircase moved at the edge before
     cur = st.cur
     if st.target != st.next_target(bool(hold)):
         return 0
@@ -299,6 +302,8 @@ def _try_pop(m: CoreModel, hold: int, ovq: int) -> bool:
     if cur is None or not m.moves or st.ov_q != ovq:
         return False
     if not st.override_settled() or st.target != st.next_target(bool(hold)):
+        return False
+    if st.ramp_changed:
         return False
     head = m.moves[0]
     if head.last:

@@ -100,12 +100,19 @@ of this clock and used on the next one:
   steps down by ``accel`` on each clock that starts with its remainder
   ``ramp_left`` negative (the sign of a register), down to the exit speed (to the
   creep speed, one speed step, when the exit speed is 0 or the queue is dry, so
-  the segment finishes).  The remainder falls by E's gain each clock; the first
-  level is (2^DIV - 1) clocks of the peak, each further one 2^DIV clocks of its
-  speed plus RAMP_LAG = 4 times the step that started it (the speed follows a
-  step three clocks late, spending them at the level above).  So at full speed
-  its steps come exactly a tick apart, the first a tick after its start, and the
-  speed is exactly the time staircase of ``exit_ramp_distance``; slower
+  the segment finishes), except on the clock right after it started, stepped or
+  returned from the dry queue (``ramp_changed``): the level of its next step is
+  made from its speed and floor as they are after such an edge, and registered, so
+  it is ready a clock later.  With planned profiles a level lasts far longer than
+  two clocks, so this never delays a step; it delays by a clock a step whose level
+  ran out at a return from the dry queue, and it halves the rate of the catch-up
+  steps of a staircase that a profile not from the planner left far behind.  The
+  remainder falls by E's gain each clock; the first level is (2^DIV - 1) clocks
+  of the peak, each further one 2^DIV clocks of its speed plus RAMP_LAG = 4 times
+  the step that started it (the speed follows a step three clocks late, spending
+  them at the level above).  So at full speed its steps come exactly a tick
+  apart, the first a tick after its start, and the speed is exactly the time
+  staircase of ``exit_ramp_distance``; slower
   (override, hold, stalls) it keeps the same distances, so the stage rejoins it
   instead of finishing the ramp early and creeping the rest.  If the next profile
   arrives while it heads for the creep speed, it returns to the plan (off before
@@ -330,6 +337,7 @@ class ProfileView:
     ramp_dry: bool = False  # it heads for the creep speed (dry queue) after this edge
     dry_now: bool = False   # the dry staircase steps down at this edge (sets dry)
     ramp_left: int = 0      # the staircase's distance to its next step after this edge
+    ramp_moved: bool = False    # it starts, steps or returns from the dry queue at this edge
     credit: int = 0         # credit after this edge (while a segment is current)
     gain: int = 0           # the earned distance grows by this at this edge
     holding: bool = False   # hold, at rest: no move pops
@@ -355,7 +363,8 @@ class ProfileStage:
     and the exit staircase:
     ``ramp_on``, ``ramp_dry``, ``ramp_v`` (its speed), ``ramp_left`` (distance, BLU x
     2^38, before its next step; DIV + 42 bits signed, saturating at
-    -``ramp_left_floor``)."""
+    -``ramp_left_floor``) and ``ramp_changed`` (it started, stepped or returned from the
+    dry queue at the edge before, so it does not step on this clock)."""
 
     def __init__(self, div: int, width: int = 32):
         if not 1 <= div <= 24:
@@ -387,6 +396,7 @@ class ProfileStage:
         self.ramp_dry = False
         self.ramp_v = 0
         self.ramp_left = 0
+        self.ramp_changed = False
 
     def outputs(self) -> ProfileOutputs:
         return ProfileOutputs(v=self.v, dry=self.dry,
@@ -411,6 +421,7 @@ class ProfileStage:
         on, dry_mode, ramp_v = self.ramp_on, self.ramp_dry, self.ramp_v
         step = False
         start = False
+        returned = False
         if not on:
             if self.past_exit:
                 on, start, ramp_v = True, True, cur.v_cruise << SPEED_SHIFT
@@ -419,12 +430,16 @@ class ProfileStage:
                 ramp_v = cur.v_cruise << SPEED_SHIFT
         elif dry_mode and not dry_cond:
             # the next profile came: back to the plan
+            returned = True
             if not self.past_exit:
                 on, dry_mode = False, False
             else:
                 dry_mode, ramp_v = False, max(ramp_v, exit_speed)
         else:
-            step = self.ramp_left < 0       # the level ran out on an earlier clock
+            # the level ran out on an earlier clock; not on the clock after the
+            # staircase moved: the level of its next step is made from its speed and
+            # floor after that edge, registered a clock later
+            step = self.ramp_left < 0 and not self.ramp_changed
         left = self.ramp_left - w.gain
         if step:
             floor = accel if dry_mode else exit_speed
@@ -438,6 +453,7 @@ class ProfileStage:
         # than a clock's gain (profiles not from the planner)
         left = max(left, -ramp_left_floor(div))
         w.ramp_on, w.ramp_dry, w.ramp_step, w.ramp_v = on, dry_mode, step, ramp_v
+        w.ramp_moved = start or step or returned
         w.ramp_left = left if on else 0
         # the flag: the dry staircase really came down (a next profile arriving before
         # its first step, as at a program's start while the second segment is still
@@ -562,6 +578,7 @@ class ProfileStage:
         # the exit staircase; it ends with its segment
         self.ramp_on, self.ramp_dry, self.ramp_v = w.ramp_on, w.ramp_dry, w.ramp_v
         self.ramp_left = w.ramp_left
+        self.ramp_changed = w.ramp_moved
         if segment_ends or w.stopped or not w.ramp_on:
             self.ramp_on, self.ramp_dry, self.ramp_left = False, False, 0
         if w.take:
