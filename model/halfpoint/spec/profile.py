@@ -103,10 +103,11 @@ of this clock and used on the next one:
   the segment finishes), except on the clock right after it started, stepped or
   returned from the dry queue (``ramp_changed``): the level of its next step is
   made from its speed and floor as they are after such an edge, and registered, so
-  it is ready a clock later.  With planned profiles a level lasts far longer than
-  two clocks, so this never delays a step; it delays by a clock a step whose level
-  ran out at a return from the dry queue, and it halves the rate of the catch-up
-  steps of a staircase that a profile not from the planner left far behind.  The
+  it is ready a clock later.  With planned profiles and DIV >= 2 a level outlasts
+  two clocks (the speed is at most the staircase's level above), so this delays
+  no step but one whose level ran out at a return from the dry queue (by a clock);
+  it halves the rate of the catch-up steps of a staircase that a profile not from
+  the planner left far behind.  The
   remainder falls by E's gain each clock; the first level is (2^DIV - 1) clocks
   of the peak, each further one 2^DIV clocks of its speed plus RAMP_LAG = 4 times
   the step that started it (the speed follows a step three clocks late, spending
