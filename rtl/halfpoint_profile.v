@@ -85,11 +85,11 @@
 //                  level the staircase adds at its next step, stepping down
 //                  by accel ((ramp_v << DIV) - accel_level) or to the floor
 //                  (floor_level + 4 ramp_v), and which way it steps (ramp_v <
-//                  floor + accel); made on every edge from ramp_v_q and
-//                  ramp_dry_q, so they are the staircase's a clock after it
-//                  moves, when it may step again (ramp_changed_q, the model's
-//                  ramp_changed: it started, stepped or returned at the edge
-//                  before)
+//                  floor + accel); made on every edge from ramp_v_q,
+//                  ramp_dry_q and the segment's level constants, so they are
+//                  the staircase's a clock after it moves, when it may step
+//                  again (ramp_changed_q, the model's ramp_changed: it
+//                  started, stepped or returned at the edge before)
 //   cur_valid_q, v_cruise_q, accel_q (both kept after the segment),
 //   line_cost_q, d_exit_q, d_stop_q, v_exit_q, last_up_q / last_down_q (the
 //   model's last_dir), dry_q, past_exit_q, past_stop_q, ramp_on_q,
