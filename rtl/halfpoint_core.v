@@ -223,24 +223,22 @@ module halfpoint_core #(
         end
     endfunction
 
-    // line fields: the deltas of the core's NA axes; those of the others
-    // must be zero (they are reserved bits of this core)
+    // line fields: the deltas of the core's NA axes (queued in place, read at
+    // the head as head_delta); those of the others must be zero (they are
+    // reserved bits of this core)
     reg             line_fits, line_reserved_set, line_zero;
-    reg  [NA*W-1:0] line_delta;
     reg  [31:0]     delta;
     integer k;
     always @(*) begin
         line_fits = 1'b1;
         line_reserved_set = 1'b0;
         line_zero = 1'b1;
-        line_delta = {NA*W{1'b0}};
         for (k = 0; k < `HALFPOINT_MAX_AXES; k = k + 1) begin
             delta = cmd[`HALFPOINT_CMD_DELTA_LSB + `HALFPOINT_CMD_DELTA_STRIDE * k
                         +: `HALFPOINT_CMD_DELTA_WIDTH];
             if (k < NA) begin
                 if (!fits(sign_extend(delta))) line_fits = 1'b0;
                 if (delta != 32'd0) line_zero = 1'b0;
-                line_delta[k*W +: W] = delta[W-1:0];
             end else if (delta != 32'd0) begin
                 line_reserved_set = 1'b1;
             end
@@ -297,16 +295,10 @@ module halfpoint_core #(
         end
     end
 
-    // output fields: power at most 100 % (else E_FIELD); the flags
-    localparam integer OUTPUT_W = `HALFPOINT_CMD_OUTPUT_POWER_WIDTH + 6;
+    // output fields: power at most 100 % (else E_FIELD)
     wire [`HALFPOINT_CMD_OUTPUT_POWER_WIDTH-1:0] output_power =
         cmd[`HALFPOINT_CMD_OUTPUT_POWER_LSB +: `HALFPOINT_CMD_OUTPUT_POWER_WIDTH];
     wire output_fits = (output_power <= `HALFPOINT_OUTPUT_POWER_FULL);
-    wire [OUTPUT_W-1:0] in_output = {
-        cmd[`HALFPOINT_CMD_OUTPUT_FLOOD_LSB], cmd[`HALFPOINT_CMD_OUTPUT_MIST_LSB],
-        cmd[`HALFPOINT_CMD_OUTPUT_DYNAMIC_LSB], cmd[`HALFPOINT_CMD_OUTPUT_LASER_LSB],
-        cmd[`HALFPOINT_CMD_OUTPUT_REVERSE_LSB], cmd[`HALFPOINT_CMD_OUTPUT_ENABLE_LSB],
-        output_power};
 
     // profile fields and their rules (else E_PROFILE_FIELD)
     wire [31:0] profile_v_cruise = cmd[`HALFPOINT_CMD_PROFILE_V_CRUISE_LSB +:
@@ -315,14 +307,10 @@ module halfpoint_core #(
                                      `HALFPOINT_CMD_PROFILE_V_EXIT_WIDTH];
     wire [33:0] profile_accel = cmd[`HALFPOINT_CMD_PROFILE_ACCEL_LSB +:
                                     `HALFPOINT_CMD_PROFILE_ACCEL_WIDTH];
-    wire [17:0] profile_line_cost = cmd[`HALFPOINT_CMD_PROFILE_LINE_COST_LSB +:
-                                        `HALFPOINT_CMD_PROFILE_LINE_COST_WIDTH];
     wire [`HALFPOINT_CMD_PROFILE_D_EXIT_WIDTH-1:0] profile_d_exit_field =
         cmd[`HALFPOINT_CMD_PROFILE_D_EXIT_LSB +: `HALFPOINT_CMD_PROFILE_D_EXIT_WIDTH];
     wire [`HALFPOINT_CMD_PROFILE_D_STOP_WIDTH-1:0] profile_d_stop_field =
         cmd[`HALFPOINT_CMD_PROFILE_D_STOP_LSB +: `HALFPOINT_CMD_PROFILE_D_STOP_WIDTH];
-    wire [DW-1:0] profile_d_exit = profile_d_exit_field[DW-1:0];
-    wire [DW-1:0] profile_d_stop = profile_d_stop_field[DW-1:0];
     // d_exit < 2^DW; then d_stop <= d_exit < 2^DW follows from the compare of
     // the whole fields
     wire          profile_d_exit_fits = (profile_d_exit_field >> DW) == 0;
@@ -360,30 +348,55 @@ module halfpoint_core #(
     wire bad_profile = !bad_opcode && is_profile && !profile_rules_ok;
     wire is_nop  = !bad_opcode && !bad_fit && is_line && line_zero;
 
-    // queue entry: {payload, flags}; payload = line deltas, the arc's start and
-    // end relative to the centre {ye, xe, ys, xs} and its helix {signs,
-    // magnitudes, count, v, u}, or a profile.  The arc payload's fields, from
-    // bit 0 (xs, ys, xe, ye: W bits each at 0, W, 2W, 3W):
-    localparam integer ARC_U_AT         = 4 * W;                 // 3 bits
-    localparam integer ARC_V_AT         = ARC_U_AT + 3;          // 3 bits
-    localparam integer ARC_COUNT_AT     = ARC_V_AT + 3;          // 32 bits
-    localparam integer ARC_MAGNITUDE_AT = ARC_COUNT_AT + 32;     // 2 slots of W bits
-    localparam integer ARC_NEGATIVE_AT  = ARC_MAGNITUDE_AT + 2 * W;  // 2 bits
-    localparam integer ARC_W            = ARC_NEGATIVE_AT + 2;
-    localparam integer MOTION_W  = (NA * W > ARC_W) ? NA * W : ARC_W;
-    localparam integer PAYLOAD_W = (MOTION_W > PROFILE_W) ? MOTION_W : PROFILE_W;
+    // queue entry: {payload, flags}.  The payload is the command itself from
+    // bit PAYLOAD_LSB (the lowest field above the flags) up, with the
+    // profile's set_power bit below it as payload bit 0, so that command bit c
+    // >= PAYLOAD_LSB is payload bit c - PAYLOAD_LSB + 1.  An arc's computed
+    // fields are written over the raw ones they come from (no other opcode's
+    // field is moved): xs, ys, xe, ye over the low W bits of i, j, x, y, each
+    // helix slot's magnitude over the low W bits of its delta, the slots'
+    // signs over two bits that are reserved in an arc command (ARC_NEGATIVE*).
+    localparam integer PAYLOAD_LSB = `HALFPOINT_CMD_PROFILE_POWER_LSB;
+    localparam integer PAYLOAD_W   = `HALFPOINT_CMD_BITS - PAYLOAD_LSB + 1;
+    localparam integer ARC_NEGATIVE0_BIT = 19;
+    localparam integer ARC_NEGATIVE1_BIT = 23;
     localparam integer FLAGS_W   = 11;
     localparam integer ENTRY_W   = PAYLOAD_W + FLAGS_W;
-    wire [PROFILE_W-1:0] in_profile = {profile_power, profile_set_power, profile_d_stop,
-                                       profile_d_exit, profile_line_cost, profile_accel,
-                                       profile_v_exit, profile_v_cruise};
-    wire [PAYLOAD_W-1:0] in_payload =
-        is_profile ? {{(PAYLOAD_W-PROFILE_W){1'b0}}, in_profile}
-        : is_output ? {{(PAYLOAD_W-OUTPUT_W){1'b0}}, in_output}
-        : is_arc ? {{(PAYLOAD_W-ARC_W){1'b0}}, helix_negative, helix_magnitude, arc_count,
-                    arc_v, arc_u, arc_ye[W-1:0], arc_xe[W-1:0], arc_ys[W-1:0],
-                    arc_xs[W-1:0]}
-        : {{(PAYLOAD_W-NA*W){1'b0}}, line_delta};
+    localparam [`HALFPOINT_CMD_BITS-1:0] RESERVED_ARC = `HALFPOINT_CMD_RESERVED_ARC;
+    generate
+        if (!RESERVED_ARC[ARC_NEGATIVE0_BIT] || !RESERVED_ARC[ARC_NEGATIVE1_BIT] ||
+            `HALFPOINT_CMD_PROFILE_SET_POWER_LSB >= PAYLOAD_LSB) begin : g_bad_layout
+            halfpoint_core_payload_layout_does_not_match_the_encoding u_bad ();
+        end
+    endgenerate
+    // the payload bit of command bit c (c >= PAYLOAD_LSB)
+    function integer payload_bit;
+        input integer c;
+        begin
+            payload_bit = c - PAYLOAD_LSB + 1;
+        end
+    endfunction
+    reg [`HALFPOINT_CMD_BITS-1:0] in_command;
+    integer slot;
+    always @(*) begin
+        in_command = cmd;
+        if (is_arc) begin
+            in_command[`HALFPOINT_CMD_ARC_I_LSB +: W] = arc_xs[W-1:0];
+            in_command[`HALFPOINT_CMD_ARC_J_LSB +: W] = arc_ys[W-1:0];
+            in_command[`HALFPOINT_CMD_ARC_X_LSB +: W] = arc_xe[W-1:0];
+            in_command[`HALFPOINT_CMD_ARC_Y_LSB +: W] = arc_ye[W-1:0];
+            in_command[ARC_NEGATIVE0_BIT] = helix_negative[0];
+            in_command[ARC_NEGATIVE1_BIT] = helix_negative[1];
+        end
+        for (slot = 0; slot < SLOTS; slot = slot + 1)
+            if (is_arc)
+                in_command[`HALFPOINT_CMD_ARC_HELIX0_LSB + `HALFPOINT_CMD_ARC_HELIX_STRIDE * slot
+                           +: W] = helix_magnitude[slot*W +: W];
+    end
+    wire [PAYLOAD_W-1:0] in_payload = {in_command[`HALFPOINT_CMD_BITS-1:PAYLOAD_LSB],
+                                       cmd[`HALFPOINT_CMD_PROFILE_SET_POWER_LSB]};
+    // below PAYLOAD_LSB: the opcode and the flags (decoded into in_flags)
+    wire [PAYLOAD_LSB-1:0] unused_command_low = in_command[PAYLOAD_LSB-1:0];
     wire [FLAGS_W-1:0] in_flags = {bad_helix, is_output, bad_profile, is_profile, is_nop,
                                    bad_fit,
                                    bad_opcode,
@@ -479,6 +492,30 @@ module halfpoint_core #(
     wire                 head_output  = head_flags_q[9];
     wire                 head_bad_helix = head_flags_q[10];
     wire [PAYLOAD_W-1:0] head_payload = head[ENTRY_W-1:FLAGS_W];
+    // the profile of a PROFILE entry's payload, in the profile queue's layout
+    function [PROFILE_W-1:0] profile_of;
+        input [PAYLOAD_W-1:0] p;
+        begin
+            // set_power is payload bit 0
+            profile_of = {p[payload_bit(`HALFPOINT_CMD_PROFILE_POWER_LSB) +: POWER_W], p[0],
+                          p[payload_bit(`HALFPOINT_CMD_PROFILE_D_STOP_LSB) +: DW],
+                          p[payload_bit(`HALFPOINT_CMD_PROFILE_D_EXIT_LSB) +: DW],
+                          p[payload_bit(`HALFPOINT_CMD_PROFILE_LINE_COST_LSB) +: 18],
+                          p[payload_bit(`HALFPOINT_CMD_PROFILE_ACCEL_LSB) +: 34],
+                          p[payload_bit(`HALFPOINT_CMD_PROFILE_V_EXIT_LSB) +: 32],
+                          p[payload_bit(`HALFPOINT_CMD_PROFILE_V_CRUISE_LSB) +: 32]};
+        end
+    endfunction
+    wire [PROFILE_W-1:0] head_profile_fields = profile_of(head_payload);
+    wire [NA*W-1:0]      head_delta;
+    genvar head_axis;
+    generate
+        for (head_axis = 0; head_axis < NA; head_axis = head_axis + 1) begin : g_head_delta
+            assign head_delta[head_axis*W +: W] = head_payload[
+                payload_bit(`HALFPOINT_CMD_DELTA_LSB + `HALFPOINT_CMD_DELTA_STRIDE * head_axis)
+                +: W];
+        end
+    endgenerate
     wire [FLAGS_W-1:0]   unused_head_flags = head[FLAGS_W-1:0];
 
     // ------------------------------------------------------------------
@@ -542,10 +579,10 @@ module halfpoint_core #(
         .s_valid   (arc_s_valid),
         .s_ready   (arc_s_ready),
         .s_cw      (head_cw),
-        .s_xs      (head_payload[W-1:0]),
-        .s_ys      (head_payload[2*W-1:W]),
-        .s_xe      (head_payload[3*W-1:2*W]),
-        .s_ye      (head_payload[4*W-1:3*W]),
+        .s_xs      (head_payload[payload_bit(`HALFPOINT_CMD_ARC_I_LSB) +: W]),
+        .s_ys      (head_payload[payload_bit(`HALFPOINT_CMD_ARC_J_LSB) +: W]),
+        .s_xe      (head_payload[payload_bit(`HALFPOINT_CMD_ARC_X_LSB) +: W]),
+        .s_ye      (head_payload[payload_bit(`HALFPOINT_CMD_ARC_Y_LSB) +: W]),
         .busy      (arc_busy),
         .move      (unused_arc_move),
         .step_x    (unused_arc_step_x),
@@ -578,7 +615,7 @@ module halfpoint_core #(
         .en        (move_room && line_run),
         .s_valid   (line_s_valid),
         .s_ready   (line_s_ready),
-        .s_delta   (head_payload[NA*W-1:0]),
+        .s_delta   (head_delta),
         .busy      (line_busy),
         .move      (unused_line_move),
         .step      (unused_line_step),
@@ -607,12 +644,14 @@ module halfpoint_core #(
         .rst             (rst),
         .flush           (flush),
         .take            (arc_take),
-        .take_u          (head_payload[ARC_U_AT +: 3]),
-        .take_v          (head_payload[ARC_V_AT +: 3]),
-        .take_count      (head_payload[ARC_COUNT_AT +: 32]),
-        .take_magnitude0 (head_payload[ARC_MAGNITUDE_AT +: W]),
-        .take_magnitude1 (head_payload[ARC_MAGNITUDE_AT + W +: W]),
-        .take_negative   (head_payload[ARC_NEGATIVE_AT +: 2]),
+        .take_u          (head_payload[payload_bit(`HALFPOINT_CMD_ARC_U_AXIS_LSB) +: 3]),
+        .take_v          (head_payload[payload_bit(`HALFPOINT_CMD_ARC_V_AXIS_LSB) +: 3]),
+        .take_count      (head_payload[payload_bit(`HALFPOINT_CMD_ARC_COUNT_LSB) +: 32]),
+        .take_magnitude0 (head_payload[payload_bit(`HALFPOINT_CMD_ARC_HELIX0_LSB) +: W]),
+        .take_magnitude1 (head_payload[payload_bit(`HALFPOINT_CMD_ARC_HELIX0_LSB
+                                          + `HALFPOINT_CMD_ARC_HELIX_STRIDE) +: W]),
+        .take_negative   ({head_payload[payload_bit(ARC_NEGATIVE1_BIT)],
+                           head_payload[payload_bit(ARC_NEGATIVE0_BIT)]}),
         .load            (arc_loading),
         .move            (move_room && arc_run),
         .last            (arc_ending),
@@ -661,8 +700,8 @@ module halfpoint_core #(
             end
         end
         if (profile_load) begin
-            profile_q <= head_payload[PROFILE_W-1:0];
-            profile_arc_q <= (head_payload[115:98] == 18'd0);
+            profile_q <= head_profile_fields;
+            profile_arc_q <= (head_profile_fields[115:98] == 18'd0);
         end
         if (arc_take || line_take) begin
             pend_cont_q <= head_cont;
@@ -894,13 +933,14 @@ module halfpoint_core #(
         .clk             (clk),
         .rst             (rst),
         .load            (output_load),
-        .load_power      (head_payload[`HALFPOINT_CMD_OUTPUT_POWER_WIDTH-1:0]),
-        .load_enable     (head_payload[OUTPUT_W-6]),
-        .load_reverse    (head_payload[OUTPUT_W-5]),
-        .load_laser      (head_payload[OUTPUT_W-4]),
-        .load_dynamic    (head_payload[OUTPUT_W-3]),
-        .load_mist       (head_payload[OUTPUT_W-2]),
-        .load_flood      (head_payload[OUTPUT_W-1]),
+        .load_power      (head_payload[payload_bit(`HALFPOINT_CMD_OUTPUT_POWER_LSB)
+                                       +: `HALFPOINT_CMD_OUTPUT_POWER_WIDTH]),
+        .load_enable     (head_payload[payload_bit(`HALFPOINT_CMD_OUTPUT_ENABLE_LSB)]),
+        .load_reverse    (head_payload[payload_bit(`HALFPOINT_CMD_OUTPUT_REVERSE_LSB)]),
+        .load_laser      (head_payload[payload_bit(`HALFPOINT_CMD_OUTPUT_LASER_LSB)]),
+        .load_dynamic    (head_payload[payload_bit(`HALFPOINT_CMD_OUTPUT_DYNAMIC_LSB)]),
+        .load_mist       (head_payload[payload_bit(`HALFPOINT_CMD_OUTPUT_MIST_LSB)]),
+        .load_flood      (head_payload[payload_bit(`HALFPOINT_CMD_OUTPUT_FLOOD_LSB)]),
         .off             (flush),
         .speed           (speed),
         .take            (stage_take),
@@ -1075,9 +1115,11 @@ module halfpoint_core #(
     // bounded check only (not a rule of the core: a Z line is cheaper when Z's
     // BLU is finer than X's), as in the profile stage's own bounded check,
     // whose step 9 ran past 10 minutes without it
+    wire [17:0] f_line_cost = cmd[`HALFPOINT_CMD_PROFILE_LINE_COST_LSB +:
+                                  `HALFPOINT_CMD_PROFILE_LINE_COST_WIDTH];
     always @(*)
         if (s_axis_tvalid && is_profile)
-            assume(profile_line_cost == 18'd0 || profile_line_cost >= 18'd65536);
+            assume(f_line_cost == 18'd0 || f_line_cost >= 18'd65536);
 `endif
 
     // ---- queue ----
@@ -1137,7 +1179,7 @@ module halfpoint_core #(
             always @(*)
                 if (f_past_valid && f_queued && flags_mem[fi][7] && !flags_mem[fi][8] &&
                     !flags_mem[fi][4])
-                    assert(f_profile_ok(queue_mem[fi][FLAGS_W +: PROFILE_W]));
+                    assert(f_profile_ok(profile_of(queue_mem[fi][ENTRY_W-1:FLAGS_W])));
 `endif
         end
     endgenerate

@@ -946,6 +946,55 @@ async def dispatch_and_burst(dut):
         "no pop burst across the boundary"
 
 
+@cocotb.test()
+async def reversals_wait_for_dirhold(dut):
+    """Every axis with a DIR hold time longer than its step space (steplen 1,
+    stepspace 0, dirhold 5): a step in the same direction is ready two clocks after
+    the last, a reversal only after the hold, so the generators' two lookaheads
+    (next_ready_same, next_ready_reverse) differ and the registered readiness must
+    take the one for the head's direction, after a pop and while the head waits.
+    Lines back and forth on each axis and zig-zags at 7/8 BLU per clock (moves pop
+    on consecutive clocks) and a full circle (Y reverses twice); every clock compared
+    with the model, every pin edge checked.  The other tests' timings never tell
+    the lookaheads apart (a mutant that took one for the other survived them); this
+    one checks that a reversal came as soon as the DIR timing allowed, later than
+    the quickest step in the same direction."""
+    bind(dut)
+    bench = new_bench(dut, cfg=[StepCfg(1, 0, 1, 5)] * NA, seed=SEED + 18)
+    await bench.start()
+    cmds = []
+    for k in range(NA):
+        for sign in (1, -1, 1):
+            cmds.append(enc.encode_line([3 * sign if a == k else 0 for a in range(NA)]))
+    for sign in (1, -1, 1, -1):
+        cmds.append(enc.encode_line([2, 2 * sign] + [0] * (NA - 2)))
+    cmds.append(enc.encode_arc(0, 0, -4, 0, 0))                   # a full circle
+    fast = (ONE * 7) // 8
+    prog = profiled(cmds, NA, W, DIV, v_cruise=fast, accel=(1 << 34) - 1, junction=fast)
+    await bench.send(prog)
+    await bench.drain()
+    check_end(bench, prog)
+    # per axis, the clocks between consecutive steps, split by whether the second
+    # one reversed the first
+    same, reverse = [], []
+    for k in range(NA):
+        last = None                               # (cycle, direction) of the last step
+        for n in range(1, len(bench.trace)):
+            delta = bench.trace[n][k] - bench.trace[n - 1][k]
+            if delta == 0:
+                continue
+            if last is not None:
+                (reverse if delta != last[1] else same).append(bench.move_cycles[n] - last[0])
+            last = (bench.move_cycles[n], delta)
+    assert same and reverse
+    dut._log.info("step gaps: same direction %d..%d clocks, reversals %d..%d",
+                  min(same), max(same), min(reverse), max(reverse))
+    # the earliest reversal: STEP high 1 clock, DIR held 5, set up 1 before the next
+    earliest = 1 + 5 + 1
+    assert earliest <= min(reverse) <= earliest + 2, "no reversal came as soon as DIR allowed"
+    assert min(same) < min(reverse), "the same-direction steps were as slow as the reversals"
+
+
 @cocotb.test(skip=not FAR)
 async def far_arc_count(dut):
     """A full circle of more than 2^15 moves with its exact count: bit 15 of the
