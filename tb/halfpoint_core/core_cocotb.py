@@ -572,9 +572,16 @@ def decode_cases():
                   (0, v, 0, v))]
         for slot in range(enc.helix_slots(NA)):
             cmds.append(enc.encode_arc(1, 0, -3, 0, 3, count=6, helix=[0] * slot + [v]))
+    # a helix delta of either sign at its count and one beyond (E_HELIX), the
+    # largest magnitude against the counts around it
+    half = 1 << (W - 1)
+    pairs = [(n, d) for n in (1, 6, half - 2) for d in (n, -n, n + 1, -n - 1)]
+    pairs += [(half - 1, -half), (half, -half), (half + 1, half - 1), (half - 2, half - 1)]
+    for slot in range(enc.helix_slots(NA)):
+        cmds += [enc.encode_arc(1, 0, -3, 0, 3, count=n, helix=[0] * slot + [d])
+                 for n, d in pairs]
     # each arc field alone out of the width (i, x and the derived xs = -i, xe = x -
     # i; j, y, ys, ye the same), and alone at its limits
-    half = 1 << (W - 1)
     for i, x in ((half, 0), (1, half), (-1, -half - 1), (-half, 0), (-1, half - 1),
                  (1, -half), (-half + 1, half - 1), (half - 1, -half + 1), (0, half - 1),
                  (0, -half)):
