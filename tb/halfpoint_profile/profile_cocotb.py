@@ -714,7 +714,8 @@ class Checker:
                      "dry_start": 0, "left_negative": 0, "changed_negative": 0,
                      "capped": 0,
                      "exact_cover": 0, "capped_pop_step": 0, "left_floor": 0,
-                     "ceiling": 0, "ceiling_wait": 0, "near_up": 0, "near_down": 0, "held_covered": 0,
+                     "ceiling": 0, "ceiling_wait": 0, "near_up": 0, "near_down": 0,
+                     "held_covered": 0,
                      "floor_above_cruise": 0, "floor_near_cruise": 0}
         self.returns = {k: 0 for k in DRY_RETURNS}
         self.v_before = 0

@@ -107,13 +107,12 @@ of this clock and used on the next one:
   two clocks (the speed is at most the staircase's level above), so this delays
   no step but one whose level ran out at a return from the dry queue (by a clock);
   it halves the rate of the catch-up steps of a staircase that a profile not from
-  the planner left far behind.  The
-  remainder falls by E's gain each clock; the first level is (2^DIV - 1) clocks
-  of the peak, each further one 2^DIV clocks of its speed plus RAMP_LAG = 4 times
-  the step that started it (the speed follows a step three clocks late, spending
-  them at the level above).  So at full speed its steps come exactly a tick
-  apart, the first a tick after its start, and the speed is exactly the time
-  staircase of ``exit_ramp_distance``; slower
+  the planner left far behind.  The remainder falls by E's gain each clock; the
+  first level is (2^DIV - 1) clocks of the peak, each further one 2^DIV clocks of
+  its speed plus RAMP_LAG = 4 times the step that started it (the speed follows a
+  step three clocks late, spending them at the level above).  So at full speed its
+  steps come exactly a tick apart, the first a tick after its start, and the speed
+  is exactly the time staircase of ``exit_ramp_distance``; slower
   (override, hold, stalls) it keeps the same distances, so the stage rejoins it
   instead of finishing the ramp early and creeping the rest.  If the next profile
   arrives while it heads for the creep speed, it returns to the plan (off before
